@@ -1,0 +1,92 @@
+#include "args.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace epsray {
+
+namespace {
+
+[[noreturn]] void bad(const std::string& m) { throw usage_error("epsray: " + m); }
+
+long to_int(const std::string& flag, const std::string& v, long lo, long hi) {
+  char* end = nullptr;
+  errno = 0;
+  long x = std::strtol(v.c_str(), &end, 10);
+  if (v.empty() || *end || errno == ERANGE || x < lo || x > hi)
+    bad("bad " + flag + " '" + v + "': expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
+  return x;
+}
+
+std::pair<int, int> to_size(const std::string& v) {
+  size_t x = v.find('x');
+  if (x == std::string::npos) bad("bad --size '" + v + "': expected WxH, such as 800x600");
+  int w = int(to_int("--size width", v.substr(0, x), 1, 16384));
+  int h = int(to_int("--size height", v.substr(x + 1), 2, 16384));
+  return {w, h};
+}
+
+}  // namespace
+
+std::string usage_text() {
+  return "usage: epsray render SCENE [--path FILE --frame K] [--size WxH] [--mode base|interp|full]\n"
+         "                      [--eps E] [--threads N] [--png OUT.png] [--pfm OUT.pfm] [--stats OUT.json]\n"
+         "       epsray walk   SCENE --path FILE [--size WxH] [--mode M] [--eps E] [--threads N]\n"
+         "                      [--out-dir DIR] [--png] [--pfm] [--stats OUT.json] [--verify]\n"
+         "       epsray view   SCENE [--path FILE] [--size WxH] [--eps E]\n"
+         "       epsray info\n"
+         "extra: --tile-rows N (rows per tile), --quiet (no summary on stdout)\n";
+}
+
+cli_options parse_args(const std::vector<std::string>& a) {
+  cli_options o;
+  if (a.empty()) bad("no command given (render, walk, view or info); try 'epsray --help'");
+  o.command = a[0];
+  if (o.command != "render" && o.command != "walk" && o.command != "view" && o.command != "info")
+    bad("unknown command '" + o.command + "' (render, walk, view or info)");
+  const bool walk = o.command == "walk";
+  for (size_t i = 1; i < a.size(); ++i) {
+    const std::string& f = a[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= a.size()) bad(f + " needs a value");
+      return a[++i];
+    };
+    if (f.rfind("--", 0) != 0) {
+      if (!o.scene.empty() || o.command == "info") bad("unexpected argument '" + f + "'");
+      o.scene = f;
+    } else if (f == "--path") o.path = value();
+    else if (f == "--frame") o.frame = int(to_int("--frame", value(), 0, 100000000));
+    else if (f == "--size") o.size = to_size(value());
+    else if (f == "--mode") {
+      const std::string& m = value();
+      if (!parse_mode(m, o.mode)) bad("bad --mode '" + m + "': expected base, interp or full");
+    } else if (f == "--eps") {
+      const std::string& v = value();
+      char* end = nullptr;
+      double e = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end || !std::isfinite(e) || e < 0 || e > 1e6)
+        bad("bad --eps '" + v + "': expected a finite number >= 0");
+      o.eps = float(e);
+    } else if (f == "--threads") o.threads = int(to_int("--threads", value(), 1, 1024));
+    else if (f == "--tile-rows") o.tile_rows = int(to_int("--tile-rows", value(), 1, 16384));
+    else if (f == "--png") {
+      if (walk) o.png_flag = true;
+      else o.png = value();
+    } else if (f == "--pfm") {
+      if (walk) o.pfm_flag = true;
+      else o.pfm = value();
+    } else if (f == "--stats") o.stats = value();
+    else if (f == "--out-dir" && walk) o.out_dir = value();
+    else if (f == "--verify") o.verify = true;
+    else if (f == "--quiet") o.quiet = true;
+    else bad("unknown option '" + f + "' for " + o.command);
+  }
+  if (o.command != "info" && o.scene.empty()) bad(o.command + " needs a SCENE file");
+  if (o.frame && o.path.empty()) bad("--frame needs --path");
+  if (walk && o.path.empty()) bad("walk needs --path FILE");
+  if (walk && (o.png_flag || o.pfm_flag) && o.out_dir.empty()) bad("--png/--pfm with walk need --out-dir DIR");
+  return o;
+}
+
+}  // namespace epsray

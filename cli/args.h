@@ -1,0 +1,34 @@
+// The command line of ../shared/spec/contract.md, parsed and checked before any work.
+#pragma once
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sched/frame_render.h"
+
+namespace epsray {
+
+// A bad flag: printed as one line, exit code 2.
+struct usage_error : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct cli_options {
+  std::string command;  // render, walk, view, info
+  std::string scene;
+  std::string path;
+  std::optional<int> frame;
+  std::optional<std::pair<int, int>> size;
+  render_mode mode = render_mode::full;
+  float eps = 0.05f;
+  int threads = 0;  // 0: all hardware threads
+  int tile_rows = 0;
+  std::string png, pfm, stats, out_dir;
+  bool png_flag = false, pfm_flag = false, verify = false, quiet = false;
+};
+
+cli_options parse_args(const std::vector<std::string>& args);
+std::string usage_text();
+
+}  // namespace epsray

@@ -1,0 +1,121 @@
+// epsray: the command line of ../shared/spec/contract.md.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <unistd.h>
+
+#include "accel/world.h"
+#include "args.h"
+#include "image/image_io.h"
+#include "scene/input_error.h"
+#include "scene/nff.h"
+#include "scene/path_file.h"
+#include "stats_json.h"
+
+using namespace epsray;
+
+namespace {
+
+// Output files must be writable before any work starts: bad input writes nothing.
+void check_writable(const std::string& file, const char* flag) {
+  if (file.empty()) return;
+  std::filesystem::path dir = std::filesystem::path(file).parent_path();
+  if (dir.empty()) dir = ".";
+  if (!std::filesystem::is_directory(dir) || ::access(dir.c_str(), W_OK) != 0)
+    throw usage_error(std::string("epsray: bad ") + flag + " '" + file + "': folder '" + dir.string() +
+                      "' does not exist or is not writable");
+  if (std::filesystem::is_directory(file))
+    throw usage_error(std::string("epsray: bad ") + flag + " '" + file + "': is a folder");
+}
+
+int run_info() {
+  std::cout << "epsray 0.1\nhardware threads: " << hardware_threads() << "\n";
+  return 0;
+}
+
+int run_render(const cli_options& o) {
+  scene sc = load_scene(o.scene);
+  camera_view view = sc.view;
+  if (!o.path.empty()) {
+    camera_path path = load_camera_path(o.path);
+    int k = o.frame.value_or(0);
+    if (k >= int(path.frames.size()))
+      throw usage_error("epsray: bad --frame " + std::to_string(k) + ": " + o.path + " has " +
+                        std::to_string(path.frames.size()) + " frames");
+    view = path.frames[size_t(k)];
+  }
+  check_writable(o.png, "--png");
+  check_writable(o.pfm, "--pfm");
+  check_writable(o.stats, "--stats");
+  if (o.command != "render")
+    throw std::runtime_error("'" + o.command + "' is not implemented yet (walkthroughs and the viewer come later)");
+  if (o.mode != render_mode::base)
+    throw std::runtime_error(std::string("--mode ") + mode_name(o.mode) +
+                             " is not implemented yet; use --mode base");
+
+  int width = o.size ? o.size->first : sc.view.width;
+  int height = o.size ? o.size->second : sc.view.height;
+  int threads = o.threads ? o.threads : hardware_threads();
+  auto t0 = std::chrono::steady_clock::now();
+  world w = make_world(std::move(sc));
+  workers pool(threads);
+  frame_params fp;
+  fp.mode = o.mode;
+  fp.eps = o.eps;
+  fp.tile_rows = o.tile_rows;
+  frame_result fr = render_frame(pool, w, make_camera(view, width, height), fp);
+  double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+  for (const glm::vec3& p : fr.img.pixels)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw std::runtime_error("internal error: a pixel is not finite; nothing written");
+
+  if (!o.pfm.empty()) write_pfm(fr.img, o.pfm);
+  if (!o.png.empty()) write_png(fr.img, o.png);
+  if (!o.stats.empty()) {
+    run_record r;
+    r.scene = o.scene, r.mode = mode_name(o.mode), r.width = width, r.height = height, r.threads = threads;
+    r.eps = o.eps;
+    r.frames.push_back({o.frame.value_or(0), fr.ms, fr.pixels, fr.rays, fr.memory_bytes});
+    r.total_ms = total_ms;
+    r.peak_memory_bytes = peak_memory_bytes();
+    write_stats_json(r, o.stats);
+  }
+  if (!o.quiet) {
+    std::printf("%s: %dx%d, %zu primitives, %zu lights, mode %s, %d threads\n", o.scene.c_str(), width, height,
+                w.shapes.size(), w.light_pos.size(), mode_name(o.mode), threads);
+    std::printf("frame %.1f ms (total %.1f ms with BVH build); rays: eye %llu reflect %llu refract %llu shadow %llu\n",
+                fr.ms, total_ms, (unsigned long long)fr.rays.eye, (unsigned long long)fr.rays.reflect,
+                (unsigned long long)fr.rays.refract, (unsigned long long)fr.rays.shadow);
+    if (!o.png.empty()) std::printf("wrote %s\n", o.png.c_str());
+    if (!o.pfm.empty()) std::printf("wrote %s\n", o.pfm.c_str());
+    if (!o.stats.empty()) std::printf("wrote %s\n", o.stats.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (!args.empty() && (args[0] == "--help" || args[0] == "-h" || args[0] == "help")) {
+    std::cout << usage_text();
+    return 0;
+  }
+  try {
+    cli_options o = parse_args(args);
+    if (o.command == "info") return run_info();
+    return run_render(o);
+  } catch (const input_error& e) {
+    std::cerr << e.what() << "\n";
+    return 2;
+  } catch (const usage_error& e) {
+    std::cerr << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "epsray: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,58 @@
+#include "stats_json.h"
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace epsray {
+
+std::uint64_t peak_memory_bytes() {
+  std::ifstream in("/proc/self/status");
+  std::string key;
+  while (in >> key) {
+    if (key == "VmHWM:") {
+      std::uint64_t kb = 0;
+      in >> kb;
+      return kb * 1024;
+    }
+    in.ignore(1 << 20, '\n');
+  }
+  return 0;
+}
+
+void write_stats_json(const run_record& r, const std::string& path) {
+  nlohmann::json j;
+  j["scene"] = r.scene;
+  j["size"] = {r.width, r.height};
+  j["mode"] = r.mode;
+  j["eps"] = r.eps;
+  j["threads"] = r.threads;
+  j["frames"] = nlohmann::json::array();
+  for (const frame_record& f : r.frames) {
+    j["frames"].push_back({{"index", f.index},
+                           {"ms", f.ms},
+                           {"pixels", {{"fast", f.pixels.fast}, {"interp", f.pixels.interp}, {"base", f.pixels.base}}},
+                           {"rays", {{"eye", f.rays.eye}, {"reflect", f.rays.reflect}, {"refract", f.rays.refract},
+                                     {"shadow", f.rays.shadow}}},
+                           {"memory_bytes", f.memory_bytes}});
+  }
+  j["total_ms"] = r.total_ms;
+  j["peak_memory_bytes"] = r.peak_memory_bytes;
+  std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw std::runtime_error(path + ": cannot write");
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot write");
+  }
+}
+
+}  // namespace epsray

@@ -1,0 +1,30 @@
+// The --stats file of the contract: one entry per frame, written whole or not at all.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "sched/frame_render.h"
+
+namespace epsray {
+
+struct frame_record {
+  int index = 0;
+  double ms = 0;
+  pixel_counts pixels;
+  ray_counts rays;
+  std::uint64_t memory_bytes = 0;
+};
+
+struct run_record {
+  std::string scene, mode;
+  int width = 0, height = 0, threads = 0;
+  float eps = 0;
+  std::vector<frame_record> frames;
+  double total_ms = 0;
+  std::uint64_t peak_memory_bytes = 0;
+};
+
+void write_stats_json(const run_record& r, const std::string& path);
+std::uint64_t peak_memory_bytes();
+
+}  // namespace epsray

@@ -1,0 +1,122 @@
+#include "accel/bvh.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace epsray {
+
+namespace {
+
+struct builder {
+  const std::vector<bounds>& prims;
+  const bvh_params& params;
+  std::vector<vec3> centres;
+  std::vector<int> idx;
+  std::vector<bvh_node> nodes;
+
+  builder(const std::vector<bounds>& p, const bvh_params& pr) : prims(p), params(pr) {
+    centres.resize(p.size());
+    for (size_t i = 0; i < p.size(); ++i) centres[i] = p[i].centre();
+    idx.resize(p.size());
+    std::iota(idx.begin(), idx.end(), 0);
+  }
+
+  void make_leaf(bvh_node& n, int begin, int end) {
+    n.index = std::uint32_t(begin);
+    n.count = std::uint16_t(end - begin);
+  }
+
+  // Builds the subtree of idx[begin, end) into nodes[at]; depth guards the fixed stack.
+  void build(std::uint32_t at, int begin, int end, int depth) {
+    bounds box, cbox;
+    for (int i = begin; i < end; ++i) box.grow(prims[size_t(idx[size_t(i)])]), cbox.grow(centres[size_t(idx[size_t(i)])]);
+    nodes[at].lo = box.lo;
+    nodes[at].hi = box.hi;
+    nodes[at].axis = 0;
+    int n = end - begin;
+    if (n <= 1) return make_leaf(nodes[at], begin, end);
+
+    vec3 ext = cbox.extent();
+    int axis = ext.x >= ext.y ? (ext.x >= ext.z ? 0 : 2) : (ext.y >= ext.z ? 1 : 2);
+    int mid = -1;
+    // Past depth 40 split at the median so the traversal stack (64) can never overflow.
+    if (ext[axis] > 0 && depth < 40) {
+      mid = sah_split(begin, end, axis, cbox, box, n);
+      if (mid == begin - 1) return make_leaf(nodes[at], begin, end);  // SAH says: leaf
+    }
+    if (mid <= begin || mid >= end) {
+      if (n <= params.max_leaf) return make_leaf(nodes[at], begin, end);
+      // Coincident centres or no useful split: halve by index so leaves stay small.
+      mid = begin + n / 2;
+      std::nth_element(idx.begin() + begin, idx.begin() + mid, idx.begin() + end,
+                       [&](int a, int b) { return centres[size_t(a)][axis] < centres[size_t(b)][axis] ||
+                                                  (centres[size_t(a)][axis] == centres[size_t(b)][axis] && a < b); });
+    }
+    nodes[at].axis = std::uint8_t(axis);
+    nodes[at].count = 0;
+    std::uint32_t left = std::uint32_t(nodes.size());
+    nodes.emplace_back();
+    build(left, begin, mid, depth + 1);
+    std::uint32_t right = std::uint32_t(nodes.size());
+    nodes.emplace_back();
+    nodes[at].index = right;
+    build(right, mid, end, depth + 1);
+  }
+
+  // Binned SAH. Returns the partition point, or begin - 1 when a leaf is cheaper.
+  int sah_split(int begin, int end, int axis, const bounds& cbox, const bounds& box, int n) {
+    const int nb = params.bins;
+    const size_t nbs = size_t(nb);
+    std::vector<bounds> bin_box(nbs);
+    std::vector<int> bin_count(nbs, 0);
+    float lo = cbox.lo[axis], scale = float(nb) / (cbox.hi[axis] - lo);
+    auto bin_of = [&](int prim) { return std::min(nb - 1, int((centres[size_t(prim)][axis] - lo) * scale)); };
+    for (int i = begin; i < end; ++i) {
+      int b = bin_of(idx[size_t(i)]);
+      bin_box[size_t(b)].grow(prims[size_t(idx[size_t(i)])]);
+      ++bin_count[size_t(b)];
+    }
+    std::vector<float> left_area(nbs), right_area(nbs);
+    std::vector<int> left_n(nbs), right_n(nbs);
+    bounds acc;
+    int cnt = 0;
+    for (int i = 0; i < nb; ++i) {
+      acc.grow(bin_box[size_t(i)]), cnt += bin_count[size_t(i)];
+      left_area[size_t(i)] = acc.area(), left_n[size_t(i)] = cnt;
+    }
+    acc = bounds{}, cnt = 0;
+    for (int i = nb - 1; i >= 0; --i) {
+      acc.grow(bin_box[size_t(i)]), cnt += bin_count[size_t(i)];
+      right_area[size_t(i)] = acc.area(), right_n[size_t(i)] = cnt;
+    }
+    float best = INFINITY;
+    int best_i = -1;
+    for (int i = 0; i + 1 < nb; ++i) {
+      if (left_n[size_t(i)] == 0 || right_n[size_t(i + 1)] == 0) continue;
+      float c = left_area[size_t(i)] * float(left_n[size_t(i)]) + right_area[size_t(i + 1)] * float(right_n[size_t(i + 1)]);
+      if (c < best) best = c, best_i = i;
+    }
+    if (best_i < 0) return -1;
+    float area = box.area();
+    float split_cost = params.traversal_cost + (area > 0 ? best / area : 0);
+    if (n <= params.max_leaf && split_cost >= float(n)) return begin - 1;
+    auto it = std::partition(idx.begin() + begin, idx.begin() + end, [&](int p) { return bin_of(p) <= best_i; });
+    return int(it - idx.begin());
+  }
+};
+
+}  // namespace
+
+bvh build_bvh(const std::vector<bounds>& prims, const bvh_params& params) {
+  bvh out;
+  if (prims.empty()) return out;
+  builder b(prims, params);
+  b.nodes.reserve(2 * prims.size());
+  b.nodes.emplace_back();
+  b.build(0, 0, int(prims.size()), 0);
+  out.nodes = std::move(b.nodes);
+  out.order = std::move(b.idx);
+  return out;
+}
+
+}  // namespace epsray

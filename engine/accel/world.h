@@ -1,0 +1,65 @@
+// Everything the tracer needs, built once from a parsed scene: shapes in BVH leaf order,
+// their materials, the lights with the SPD convention applied, and the spec's delta.
+#pragma once
+#include <vector>
+
+#include "accel/bvh.h"
+#include "geom/shapes.h"
+#include "scene/scene.h"
+
+namespace epsray {
+
+struct shape_info {
+  int material = 0;
+  int source = 0;  // index into scene::prims
+};
+
+struct world {
+  scene sc;
+  std::vector<shape> shapes;  // indexed by primitive id (BVH leaf order)
+  std::vector<shape_info> info;
+  std::vector<vec2> poly2d;
+  bvh tree;
+  std::vector<vec3> light_pos, light_power;
+  vec3 ambient{0}, background{0};
+  bounds box;        // tight bounds of the primitives
+  float delta = 0;   // 1e-4 of the box diagonal: origin offset of secondary rays
+};
+
+world make_world(scene s);
+
+struct hit {
+  float t = 0;
+  int prim = -1;
+};
+
+// Nearest hit with 0 < t < tmax.
+inline bool closest_hit(const world& w, const ray& r, float tmax, hit& h) {
+  const shape* shapes = w.shapes.data();
+  const vec2* poly2d = w.poly2d.data();
+  return traverse_bvh<false>(w.tree, r, tmax, [&](std::uint32_t first, std::uint32_t count, float& tm) {
+    bool any = false;
+    for (std::uint32_t i = first; i < first + count; ++i) {
+      float t;
+      if (hit_shape(shapes[i], poly2d, r, tm, t)) tm = t, h.t = t, h.prim = int(i), any = true;
+    }
+    return any;
+  });
+}
+
+// Some primitive with 0 < t < tmax, or -1: the shadow test (any hit, early exit).
+inline int first_blocker(const world& w, const ray& r, float tmax) {
+  const shape* shapes = w.shapes.data();
+  const vec2* poly2d = w.poly2d.data();
+  int blocker = -1;
+  traverse_bvh<true>(w.tree, r, tmax, [&](std::uint32_t first, std::uint32_t count, float& tm) {
+    for (std::uint32_t i = first; i < first + count; ++i) {
+      float t;
+      if (hit_shape(shapes[i], poly2d, r, tm, t)) return blocker = int(i), true;
+    }
+    return false;
+  });
+  return blocker;
+}
+
+}  // namespace epsray

@@ -1,0 +1,88 @@
+#include "geom/shape_build.h"
+
+#include <cmath>
+
+namespace epsray {
+
+namespace {
+bounds disk_bounds(vec3 c, vec3 n, float r) {
+  vec3 e = r * glm::sqrt(glm::max(vec3(0), vec3(1) - n * n));
+  return bounds{c - e, c + e};
+}
+}  // namespace
+
+vec3 polygon_normal(const scene& s, const primitive& p) {
+  const vec3* v = &s.vertices[size_t(p.first)];
+  glm::dvec3 n = glm::cross(glm::dvec3(v[1]) - glm::dvec3(v[0]), glm::dvec3(v[2]) - glm::dvec3(v[1]));
+  return vec3(glm::normalize(n));
+}
+
+bounds primitive_bounds(const scene& s, const primitive& p) {
+  switch (p.kind) {
+    case prim_kind::sphere: return bounds{p.a - std::fabs(p.r0), p.a + std::fabs(p.r0)};
+    case prim_kind::cone: {
+      vec3 n = glm::normalize(p.b - p.a);
+      bounds b = disk_bounds(p.a, n, std::fabs(p.r0));
+      b.grow(disk_bounds(p.b, n, std::fabs(p.r1)));
+      return b;
+    }
+    case prim_kind::polygon:
+    case prim_kind::patch: {
+      bounds b;
+      for (int i = 0; i < p.count; ++i) b.grow(s.vertices[size_t(p.first + i)]);
+      return b;
+    }
+    case prim_kind::disk: return disk_bounds(p.a, p.b, p.r0);
+    case prim_kind::box: {
+      vec3 e = glm::abs(p.frame[0]) * p.b.x + glm::abs(p.frame[1]) * p.b.y + glm::abs(p.frame[2]) * p.b.z;
+      return bounds{p.a - e, p.a + e};
+    }
+  }
+  return {};
+}
+
+shape make_shape(const scene& s, const primitive& p, std::vector<vec2>& poly2d) {
+  shape out;
+  switch (p.kind) {
+    case prim_kind::sphere:
+      out.kind = shape_kind::sphere;
+      out.sphere = {p.a, p.r0};
+      break;
+    case prim_kind::cone: {
+      out.kind = shape_kind::cone;
+      vec3 axis = p.b - p.a;
+      float h = glm::length(axis);
+      float r0 = std::fabs(p.r0), r1 = std::fabs(p.r1);
+      out.cone = {p.a, axis / h, h, r0, (r1 - r0) / h};
+      break;
+    }
+    case prim_kind::polygon:
+    case prim_kind::patch: {
+      const vec3* v = &s.vertices[size_t(p.first)];
+      if (p.count == 3) {
+        out.kind = shape_kind::triangle;
+        out.tri = {v[0], v[1] - v[0], v[2] - v[0]};
+        break;
+      }
+      out.kind = shape_kind::polygon;
+      vec3 n = polygon_normal(s, p);
+      vec3 an = glm::abs(n);
+      int drop = an.x > an.y ? (an.x > an.z ? 0 : 2) : (an.y > an.z ? 1 : 2);
+      int u = (drop + 1) % 3, w = (drop + 2) % 3;
+      out.poly = {n, glm::dot(n, v[0]), std::int32_t(poly2d.size()), p.count, u, w};
+      for (int i = 0; i < p.count; ++i) poly2d.push_back({v[i][u], v[i][w]});
+      break;
+    }
+    case prim_kind::disk:
+      out.kind = shape_kind::disk;
+      out.disk = {p.a, p.b, p.r0 * p.r0};
+      break;
+    case prim_kind::box:
+      out.kind = shape_kind::box;
+      out.box = {p.a, p.frame[0], p.frame[1], p.frame[2], p.b};
+      break;
+  }
+  return out;
+}
+
+}  // namespace epsray

@@ -1,0 +1,181 @@
+// Traceable primitives: one 64-byte record per primitive (one cache line), a tag switch
+// instead of virtual calls, and the closest-hit routines that the BVH leaves call.
+// Every routine is two-sided and accepts hits with 0 < t < tmax (whitted.md 2, 4).
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "geom/bounds.h"
+#include "geom/ray.h"
+
+namespace epsray {
+
+using glm::vec2;
+
+enum class shape_kind : std::uint8_t { sphere, triangle, polygon, cone, disk, box };
+
+struct sphere_geom { vec3 c; float r; };              // r may be negative (flipped normal)
+struct triangle_geom { vec3 v0, e1, e2; };            // v1 = v0 + e1, v2 = v0 + e2
+struct polygon_geom {                                  // n-gon, even-odd rule in 2D
+  vec3 n; float d;                                     // plane dot(n, p) = d
+  std::int32_t first, count;                           // into world::poly2d
+  std::int32_t ax_u, ax_v;                             // projection axes
+};
+struct cone_geom { vec3 base, axis; float h, r0, k; };  // radius r0 + k z, z in [0, h], r >= 0
+struct disk_geom { vec3 c, n; float r2; };
+struct box_geom { vec3 c, ax0, ax1, ax2, half; };      // oriented box
+
+struct shape {
+  union {
+    sphere_geom sphere;
+    triangle_geom tri;
+    polygon_geom poly;
+    cone_geom cone;
+    disk_geom disk;
+    box_geom box;
+  };
+  shape_kind kind;
+  shape() : box{} {}
+};
+static_assert(sizeof(shape) <= 64, "one cache line per primitive");
+
+// Robust roots of a t^2 + b t + c = 0 (a may be small); returns the number of real roots.
+inline int solve_quadratic(float a, float b, float c, float& t0, float& t1) {
+  if (std::fabs(a) < 1e-12f) {
+    if (b == 0) return 0;
+    t0 = t1 = -c / b;
+    return 1;
+  }
+  float disc = b * b - 4 * a * c;
+  if (disc < 0) return 0;
+  float q = -0.5f * (b + std::copysign(std::sqrt(disc), b));
+  t0 = q / a;
+  t1 = q != 0 ? c / q : t0;
+  if (t0 > t1) std::swap(t0, t1);
+  return 2;
+}
+
+inline bool hit_sphere(const sphere_geom& s, const ray& r, float tmax, float& t) {
+  // Distance from the centre to the line, computed directly: far more accurate than b^2 - c
+  // for small spheres seen from afar (Ray Tracing Gems, ch. 7).
+  vec3 oc = r.o - s.c;
+  float b = glm::dot(oc, r.d);
+  vec3 f = oc - b * r.d;
+  float r2 = s.r * s.r;
+  float disc = r2 - glm::dot(f, f);
+  if (disc < 0) return false;
+  float sq = std::sqrt(disc);
+  float c = glm::dot(oc, oc) - r2;
+  float q = -b - std::copysign(sq, b);
+  float t0 = q != 0 ? c / q : 0, t1 = q;
+  if (t0 > t1) std::swap(t0, t1);
+  if (t0 > 0 && t0 < tmax) return t = t0, true;
+  if (t1 > 0 && t1 < tmax) return t = t1, true;
+  return false;
+}
+
+inline bool hit_triangle(const triangle_geom& g, const ray& r, float tmax, float& t) {
+  vec3 p = glm::cross(r.d, g.e2);
+  float det = glm::dot(g.e1, p);
+  if (det == 0) return false;
+  float inv = 1.0f / det;
+  vec3 s = r.o - g.v0;
+  float u = glm::dot(s, p) * inv;
+  if (u < 0 || u > 1) return false;
+  vec3 q = glm::cross(s, g.e1);
+  float v = glm::dot(r.d, q) * inv;
+  if (v < 0 || u + v > 1) return false;
+  float tt = glm::dot(g.e2, q) * inv;
+  if (!(tt > 0 && tt < tmax)) return false;
+  t = tt;
+  return true;
+}
+
+// Even-odd crossing test of (u, v) against a 2D polygon.
+inline bool inside_polygon(const vec2* v, int n, float u, float w) {
+  bool in = false;
+  for (int i = 0, j = n - 1; i < n; j = i++) {
+    if ((v[i].y > w) != (v[j].y > w)) {
+      float x = v[j].x + (w - v[j].y) * (v[i].x - v[j].x) / (v[i].y - v[j].y);
+      if (u < x) in = !in;
+    }
+  }
+  return in;
+}
+
+inline bool hit_polygon(const polygon_geom& g, const vec2* poly2d, const ray& r, float tmax, float& t) {
+  float dn = glm::dot(g.n, r.d);
+  if (dn == 0) return false;
+  float tt = (g.d - glm::dot(g.n, r.o)) / dn;
+  if (!(tt > 0 && tt < tmax)) return false;
+  vec3 p = r.o + tt * r.d;
+  if (!inside_polygon(poly2d + g.first, g.count, p[g.ax_u], p[g.ax_v])) return false;
+  t = tt;
+  return true;
+}
+
+inline bool hit_cone(const cone_geom& g, const ray& r, float tmax, float& t) {
+  vec3 q = r.o - g.base;
+  float qa = glm::dot(q, g.axis), da = glm::dot(r.d, g.axis);
+  vec3 qp = q - qa * g.axis, dp = r.d - da * g.axis;
+  float R = g.r0 + g.k * qa, S = g.k * da;  // radius along the ray: R + S t
+  float a = glm::dot(dp, dp) - S * S;
+  float b = 2 * (glm::dot(qp, dp) - R * S);
+  float c = glm::dot(qp, qp) - R * R;
+  float t0, t1;
+  if (!solve_quadratic(a, b, c, t0, t1)) return false;
+  for (float tt : {t0, t1}) {
+    if (!(tt > 0 && tt < tmax)) continue;
+    float z = qa + tt * da;
+    if (z >= 0 && z <= g.h && g.r0 + g.k * z >= 0) return t = tt, true;
+  }
+  return false;
+}
+
+inline bool hit_disk(const disk_geom& g, const ray& r, float tmax, float& t) {
+  float dn = glm::dot(g.n, r.d);
+  if (dn == 0) return false;
+  float tt = glm::dot(g.c - r.o, g.n) / dn;
+  if (!(tt > 0 && tt < tmax)) return false;
+  vec3 p = r.o + tt * r.d - g.c;
+  if (glm::dot(p, p) > g.r2) return false;
+  t = tt;
+  return true;
+}
+
+inline bool hit_box(const box_geom& g, const ray& r, float tmax, float& t) {
+  vec3 q = r.o - g.c;
+  float t0 = -INFINITY, t1 = INFINITY;
+  const vec3* ax[3] = {&g.ax0, &g.ax1, &g.ax2};
+  for (int i = 0; i < 3; ++i) {
+    float o = glm::dot(q, *ax[i]), d = glm::dot(r.d, *ax[i]);
+    if (d == 0) {
+      if (std::fabs(o) > g.half[i]) return false;
+      continue;
+    }
+    float inv = 1.0f / d;
+    float a = (-g.half[i] - o) * inv, b = (g.half[i] - o) * inv;
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+  }
+  if (t0 > t1) return false;
+  if (t0 > 0 && t0 < tmax) return t = t0, true;  // from outside
+  if (t1 > 0 && t1 < tmax) return t = t1, true;  // from inside
+  return false;
+}
+
+inline bool hit_shape(const shape& s, const vec2* poly2d, const ray& r, float tmax, float& t) {
+  switch (s.kind) {
+    case shape_kind::sphere: return hit_sphere(s.sphere, r, tmax, t);
+    case shape_kind::triangle: return hit_triangle(s.tri, r, tmax, t);
+    case shape_kind::polygon: return hit_polygon(s.poly, poly2d, r, tmax, t);
+    case shape_kind::cone: return hit_cone(s.cone, r, tmax, t);
+    case shape_kind::disk: return hit_disk(s.disk, r, tmax, t);
+    case shape_kind::box: return hit_box(s.box, r, tmax, t);
+  }
+  return false;
+}
+
+}  // namespace epsray

@@ -1,0 +1,102 @@
+#include "image/image_io.h"
+
+#include <png.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+
+namespace epsray {
+
+namespace {
+
+// Writes through a temporary and renames, so a reader never sees half a file.
+template <class Body>
+void write_atomically(const std::string& path, Body&& body) {
+  std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
+  bool ok = false;
+  try {
+    ok = body(f);
+  } catch (...) {
+    std::fclose(f);
+    std::remove(tmp.c_str());
+    throw;
+  }
+  ok = (std::fclose(f) == 0) && ok;
+  if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
+  }
+}
+
+}  // namespace
+
+unsigned char srgb_byte(float linear) {
+  float x = std::isnan(linear) ? 0.0f : std::clamp(linear, 0.0f, 1.0f);
+  float s = x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1 / 2.4f) - 0.055f;
+  return static_cast<unsigned char>(std::lround(s * 255.0f));
+}
+
+void write_pfm(const image& img, const std::string& path) {
+  write_atomically(path, [&](FILE* f) {
+    std::fprintf(f, "PF\n%d %d\n-1.0\n", img.width, img.height);
+    // PFM rows run bottom to top; floats little-endian (this machine's order).
+    for (int y = img.height - 1; y >= 0; --y)
+      if (std::fwrite(&img.at(0, y), sizeof(float) * 3, size_t(img.width), f) != size_t(img.width)) return false;
+    return true;
+  });
+}
+
+image read_pfm(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string magic;
+  int w = 0, h = 0;
+  float scale = 0;
+  if (!(in >> magic >> w >> h >> scale) || magic != "PF" || w <= 0 || h <= 0 || scale >= 0)
+    throw std::runtime_error(path + ": not a little-endian colour PFM");
+  in.get();
+  image img(w, h);
+  for (int y = h - 1; y >= 0; --y) in.read(reinterpret_cast<char*>(&img.at(0, y)), std::streamsize(sizeof(float) * 3 * size_t(w)));
+  if (!in) throw std::runtime_error(path + ": truncated PFM");
+  return img;
+}
+
+void write_png(const image& img, const std::string& path) {
+  write_atomically(path, [&](FILE* f) {
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png ? png_create_info_struct(png) : nullptr;
+    if (!info) {
+      png_destroy_write_struct(&png, nullptr);
+      return false;
+    }
+    std::vector<unsigned char> row(size_t(img.width) * 3);
+    if (setjmp(png_jmpbuf(png))) {
+      png_destroy_write_struct(&png, &info);
+      return false;
+    }
+    png_init_io(png, f);
+    png_set_compression_level(png, 1);  // level 1: ~3x faster than the default, files ~20% larger
+    png_set_IHDR(png, info, png_uint_32(img.width), png_uint_32(img.height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+    png_write_info(png, info);
+    for (int y = 0; y < img.height; ++y) {
+      for (int x = 0; x < img.width; ++x) {
+        const glm::vec3& p = img.at(x, y);
+        row[size_t(3 * x)] = srgb_byte(p.x), row[size_t(3 * x + 1)] = srgb_byte(p.y), row[size_t(3 * x + 2)] = srgb_byte(p.z);
+      }
+      png_write_row(png, row.data());
+    }
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    return true;
+  });
+}
+
+}  // namespace epsray

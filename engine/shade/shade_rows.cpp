@@ -1,0 +1,20 @@
+#include "shade/shade_rows.h"
+
+namespace epsray {
+
+void shade_rows_base(const world& w, const camera& cam, int y0, int y1, image& out, trace_state& st,
+                     ray_tree_store* trees) {
+  ray_tree scratch;  // reused for every pixel of the band
+  ray_tree* saved = st.tree;
+  if (trees) st.tree = &scratch;
+  for (int y = y0; y < y1; ++y) {
+    for (int x = 0; x < cam.width; ++x) {
+      ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
+      out.at(x, y) = trace_eye(w, r, st);
+      if (trees) trees->append(scratch);
+    }
+  }
+  st.tree = saved;
+}
+
+}  // namespace epsray

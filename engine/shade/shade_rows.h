@@ -1,0 +1,14 @@
+// Base shading of a band of scanlines: every pixel traced by the Whitted tracer.
+#pragma once
+#include "image/image.h"
+#include "scene/camera.h"
+#include "shade/ray_tree_store.h"
+#include "shade/whitted.h"
+
+namespace epsray {
+
+// Traces rows [y0, y1) into `out`; appends each pixel's ray tree to `trees` when non-null.
+void shade_rows_base(const world& w, const camera& cam, int y0, int y1, image& out, trace_state& st,
+                     ray_tree_store* trees);
+
+}  // namespace epsray

@@ -1,0 +1,132 @@
+#include "shade/surface.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geom/shape_build.h"
+
+namespace epsray {
+
+namespace {
+
+constexpr float pi = 3.14159265358979323846f;
+
+// A unit vector perpendicular to n, the same for the same n.
+vec3 perpendicular(vec3 n) {
+  vec3 a = std::fabs(n.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0);
+  return glm::normalize(glm::cross(n, a));
+}
+
+// Barycentric coordinates of p in triangle (a, b, c), p assumed in its plane.
+vec3 barycentric(vec3 p, vec3 a, vec3 b, vec3 c) {
+  vec3 v0 = b - a, v1 = c - a, v2 = p - a;
+  float d00 = glm::dot(v0, v0), d01 = glm::dot(v0, v1), d11 = glm::dot(v1, v1);
+  float d20 = glm::dot(v2, v0), d21 = glm::dot(v2, v1);
+  float den = d00 * d11 - d01 * d01;
+  if (den == 0) return {1, 0, 0};
+  float v = (d11 * d20 - d01 * d21) / den, u = (d00 * d21 - d01 * d20) / den;
+  return {1 - v - u, v, u};
+}
+
+// whitted.md 2: triangles barycentrically; n-gons through the fan triangle holding p.
+vec3 patch_normal(const scene& s, const primitive& pr, vec3 p) {
+  const vec3* v = &s.vertices[size_t(pr.first)];
+  const vec3* n = &s.normals[size_t(pr.first)];
+  int best = 1;
+  float best_min = -INFINITY;
+  vec3 best_b{1, 0, 0};
+  for (int i = 1; i + 1 < pr.count; ++i) {
+    vec3 b = barycentric(p, v[0], v[i], v[i + 1]);
+    float m = std::min({b.x, b.y, b.z});
+    if (m > best_min) best_min = m, best = i, best_b = b;
+    if (m >= 0) break;
+  }
+  vec3 ns = best_b.x * n[0] + best_b.y * n[best] + best_b.z * n[best + 1];
+  float len = glm::length(ns);
+  return len > 0 ? ns / len : polygon_normal(s, pr);
+}
+
+vec3 cone_normal(const primitive& pr, vec3 p) {
+  vec3 axis = pr.b - pr.a;
+  float h = glm::length(axis);
+  axis /= h;
+  vec3 q = p - pr.a;
+  vec3 radial = q - glm::dot(q, axis) * axis;
+  float rl = glm::length(radial);
+  vec3 ru = rl > 0 ? radial / rl : perpendicular(axis);
+  float k = (std::fabs(pr.r1) - std::fabs(pr.r0)) / h;
+  vec3 n = glm::normalize(ru - k * axis);  // gradient of distance-to-axis minus radius
+  return (pr.r0 < 0 || pr.r1 < 0) ? -n : n;
+}
+
+vec3 box_normal(const primitive& pr, vec3 p) {
+  vec3 q = p - pr.a;
+  int best = 0;
+  float best_v = -1, sign = 1;
+  for (int i = 0; i < 3; ++i) {
+    float l = glm::dot(q, pr.frame[i]) / pr.b[i];
+    if (std::fabs(l) > best_v) best_v = std::fabs(l), best = i, sign = l < 0 ? -1.0f : 1.0f;
+  }
+  return sign * pr.frame[best];
+}
+
+}  // namespace
+
+surface surface_at(const world& w, int prim, const ray& r, float t) {
+  const scene& s = w.sc;
+  const primitive& pr = s.prims[size_t(w.info[size_t(prim)].source)];
+  surface out;
+  out.p = r.o + t * r.d;
+  switch (pr.kind) {
+    case prim_kind::sphere: out.ng = (out.p - pr.a) / pr.r0; break;  // negative r flips
+    case prim_kind::cone: out.ng = cone_normal(pr, out.p); break;
+    case prim_kind::polygon:
+    case prim_kind::patch: out.ng = polygon_normal(s, pr); break;
+    case prim_kind::disk: out.ng = pr.b; break;
+    case prim_kind::box: out.ng = box_normal(pr, out.p); break;
+  }
+  out.ng = glm::normalize(out.ng);
+  out.ns = pr.kind == prim_kind::patch ? patch_normal(s, pr, out.p) : out.ng;
+  return out;
+}
+
+vec2 surface_uv(const world& w, int prim, vec3 p) {
+  const scene& s = w.sc;
+  const primitive& pr = s.prims[size_t(w.info[size_t(prim)].source)];
+  switch (pr.kind) {
+    case prim_kind::sphere: {
+      vec3 d = glm::normalize(p - pr.a);
+      float r = std::fabs(pr.r0);
+      return {(std::atan2(d.y, d.x) + pi) * r, std::acos(std::clamp(d.z, -1.0f, 1.0f)) * r};
+    }
+    case prim_kind::cone: {
+      vec3 axis = glm::normalize(pr.b - pr.a);
+      vec3 e1 = perpendicular(axis), e2 = glm::cross(axis, e1);
+      vec3 q = p - pr.a;
+      float ang = std::atan2(glm::dot(q, e2), glm::dot(q, e1)) + pi;
+      return {ang * 0.5f * (std::fabs(pr.r0) + std::fabs(pr.r1)), glm::dot(q, axis)};
+    }
+    case prim_kind::polygon:
+    case prim_kind::patch: {
+      const vec3* v = &s.vertices[size_t(pr.first)];
+      vec3 eu = glm::normalize(v[1] - v[0]);
+      vec3 ev = glm::cross(polygon_normal(s, pr), eu);
+      return {glm::dot(p - v[0], eu), glm::dot(p - v[0], ev)};
+    }
+    case prim_kind::disk: {
+      vec3 e1 = perpendicular(pr.b), e2 = glm::cross(pr.b, e1);
+      return {glm::dot(p - pr.a, e1), glm::dot(p - pr.a, e2)};
+    }
+    case prim_kind::box: {
+      vec3 q = p - pr.a;
+      vec3 l{glm::dot(q, pr.frame[0]), glm::dot(q, pr.frame[1]), glm::dot(q, pr.frame[2])};
+      vec3 n = glm::abs(l / pr.b);
+      int i = n.x > n.y ? (n.x > n.z ? 0 : 2) : (n.y > n.z ? 1 : 2);
+      int j = (i + 1) % 3, k = (i + 2) % 3;
+      return {l[j] + pr.b[j], l[k] + pr.b[k]};
+    }
+  }
+  return {0, 0};
+}
+
+}  // namespace epsray

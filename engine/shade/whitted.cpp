@@ -1,0 +1,100 @@
+#include "shade/whitted.h"
+
+#include <cmath>
+#include <limits>
+
+#include "shade/surface.h"
+#include "shade/texture.h"
+
+namespace epsray {
+
+namespace {
+
+vec3 reflect_dir(vec3 d, vec3 nf) { return glm::normalize(d - 2 * glm::dot(d, nf) * nf); }
+
+}  // namespace
+
+vec3 radiance(const world& w, const ray& r, int depth, trace_state& st) {
+  ray_tree* tree = st.tree;
+  int node = -1;
+  if (tree) {
+    node = int(tree->nodes.size());
+    tree->nodes.emplace_back();
+  }
+  hit h;
+  if (!closest_hit(w, r, std::numeric_limits<float>::infinity(), h)) return w.background;
+
+  const surface sf = surface_at(w, h.prim, r, h.t);
+  const material& m = w.sc.materials[size_t(w.info[size_t(h.prim)].material)];
+  const bool entering = glm::dot(sf.ng, r.d) < 0;
+  const vec3 nf = entering ? sf.ns : -sf.ns;
+  const vec3 v = -r.d;
+  vec3 colour = m.color;
+  if (m.texture >= 0) colour *= sample_texture(w.sc.textures[size_t(m.texture)], surface_uv(w, h.prim, sf.p));
+  const vec3 kd_c = m.kd * colour;
+
+  if (tree) {
+    ray_tree_node& n = tree->nodes[size_t(node)];
+    n.prim = h.prim;
+    n.entering = entering;
+    n.lights = std::uint32_t(tree->lights.size());
+  }
+
+  vec3 L = w.ambient * kd_c;
+  const vec3 above = sf.p + w.delta * nf;
+  const size_t nl = w.light_pos.size();
+  for (size_t j = 0; j < nl; ++j) {
+    const vec3 to_light = w.light_pos[j] - sf.p;
+    const vec3 lj = glm::normalize(to_light);
+    const float ndl = glm::dot(nf, lj);
+    std::int32_t status = light_behind;
+    if (ndl > 0) {
+      ++st.counts.shadow;
+      vec3 so = w.light_pos[j] - above;
+      float dist = glm::length(so);
+      int blocker = dist > 0 ? first_blocker(w, make_ray(above, so / dist), dist) : -1;
+      status = blocker >= 0 ? blocker : light_lit;
+      if (blocker < 0) {
+        float spec = 0;
+        if (m.shine > 0) {
+          vec3 hj = glm::normalize(lj + v);
+          spec = std::pow(std::max(0.0f, glm::dot(nf, hj)), m.shine);
+        }
+        L += w.light_power[j] * (kd_c * ndl + m.ks * spec);
+      }
+    }
+    if (tree) tree->lights.push_back(status);
+  }
+
+  if (depth < max_depth && m.ks > 0) {
+    ++st.counts.reflect;
+    if (tree) tree->nodes[size_t(node)].reflect = std::int16_t(tree->nodes.size());
+    L += m.ks * radiance(w, make_ray(above, reflect_dir(r.d, nf)), depth + 1, st);
+  }
+  if (depth < max_depth && m.t > 0) {
+    ++st.counts.refract;
+    const float eta = entering ? 1 / m.ior : m.ior;
+    const float ci = glm::dot(v, nf);
+    const float k = 1 - eta * eta * (1 - ci * ci);
+    if (tree) {
+      ray_tree_node& n = tree->nodes[size_t(node)];
+      n.refract = std::int16_t(tree->nodes.size());
+      n.tir = k < 0;
+    }
+    if (k < 0) {
+      L += m.t * radiance(w, make_ray(above, reflect_dir(r.d, nf)), depth + 1, st);
+    } else {
+      vec3 td = glm::normalize(eta * r.d + (eta * ci - std::sqrt(k)) * nf);
+      L += m.t * radiance(w, make_ray(sf.p - w.delta * nf, td), depth + 1, st);
+    }
+  }
+  return L;
+}
+
+vec3 trace_eye(const world& w, const ray& r, trace_state& st) {
+  ++st.counts.eye;
+  if (st.tree) st.tree->clear();
+  return radiance(w, r, 1, st);
+}
+
+}  // namespace epsray

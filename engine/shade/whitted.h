@@ -1,0 +1,33 @@
+// Whitted radiance exactly as ../shared/spec/whitted.md section 4 defines it: the reference
+// every accelerated path is judged against.
+#pragma once
+#include <cstdint>
+
+#include "accel/world.h"
+#include "shade/ray_tree.h"
+
+namespace epsray {
+
+constexpr int max_depth = 5;  // eye ray = depth 1 (SPD testing procedure)
+
+struct ray_counts {
+  std::uint64_t eye = 0, reflect = 0, refract = 0, shadow = 0;
+  ray_counts& operator+=(const ray_counts& o) {
+    eye += o.eye, reflect += o.reflect, refract += o.refract, shadow += o.shadow;
+    return *this;
+  }
+};
+
+// Per-thread state of one trace: counters, and the ray tree to record (or null).
+struct trace_state {
+  ray_counts counts;
+  ray_tree* tree = nullptr;
+};
+
+// Radiance along an eye ray (depth 1); records the ray tree into state.tree when set.
+vec3 trace_eye(const world& w, const ray& r, trace_state& state);
+
+// Radiance along any ray at the given depth (1 = eye ray).
+vec3 radiance(const world& w, const ray& r, int depth, trace_state& state);
+
+}  // namespace epsray

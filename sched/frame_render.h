@@ -1,0 +1,41 @@
+// One frame rendered over scanline tiles on the workers. Per-tile results are combined in
+// tile order, so images and counts are the same for any thread count and schedule.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "image/image.h"
+#include "scene/camera.h"
+#include "shade/ray_tree_store.h"
+#include "shade/whitted.h"
+#include "workers.h"
+
+namespace epsray {
+
+enum class render_mode { base, interp, full };
+const char* mode_name(render_mode m);
+bool parse_mode(const std::string& s, render_mode& out);
+
+struct pixel_counts {
+  std::uint64_t fast = 0, interp = 0, base = 0;
+};
+
+struct frame_params {
+  render_mode mode = render_mode::base;
+  float eps = 0.05f;
+  int tile_rows = 0;              // 0: default_tile_rows
+  bool keep_ray_trees = false;    // fill frame_result::trees, one per pixel in raster order
+};
+
+struct frame_result {
+  image img;
+  pixel_counts pixels;
+  ray_counts rays;
+  double ms = 0;
+  std::uint64_t memory_bytes = 0;  // what this frame holds: image, ray trees
+  ray_tree_store trees;
+};
+
+frame_result render_frame(workers& pool, const world& w, const camera& cam, const frame_params& p);
+
+}  // namespace epsray
