@@ -1,6 +1,7 @@
 #include "accel/bvh.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace epsray {
@@ -12,7 +13,7 @@ struct builder {
   const bvh_params& params;
   std::vector<vec3> centres;
   std::vector<int> idx;
-  std::vector<bvh_node> nodes;
+  std::vector<bvh2_node> nodes;
 
   builder(const std::vector<bounds>& p, const bvh_params& pr) : prims(p), params(pr) {
     centres.resize(p.size());
@@ -21,7 +22,7 @@ struct builder {
     std::iota(idx.begin(), idx.end(), 0);
   }
 
-  void make_leaf(bvh_node& n, int begin, int end) {
+  void make_leaf(bvh2_node& n, int begin, int end) {
     n.index = std::uint32_t(begin);
     n.count = std::uint16_t(end - begin);
   }
@@ -107,6 +108,47 @@ struct builder {
 
 }  // namespace
 
+// Collapses the binary tree: each 4-wide node takes the children of up to three binary
+// nodes, always opening the interior child with the largest surface area.
+struct collapser {
+  const std::vector<bvh2_node>& in;
+  std::vector<bvh4_node> out;
+
+  static float area(const bvh2_node& n) { return bounds{n.lo, n.hi}.area(); }
+
+  std::uint32_t collapse(std::uint32_t root) {
+    std::uint32_t at = std::uint32_t(out.size());
+    out.emplace_back();
+    std::uint32_t kids[4] = {root + 1, in[root].index, 0, 0};
+    int nk = 2;
+    while (nk < 4) {
+      int best = -1;
+      float best_area = -1;
+      for (int k = 0; k < nk; ++k)
+        if (in[kids[k]].count == 0 && area(in[kids[k]]) > best_area) best = k, best_area = area(in[kids[k]]);
+      if (best < 0) break;
+      std::uint32_t n = kids[best];
+      kids[best] = n + 1;
+      kids[nk++] = in[n].index;
+    }
+    bvh4_node node{};
+    node.size = std::uint32_t(nk);
+    for (int k = 0; k < 4; ++k) {
+      for (int a = 0; a < 3; ++a) node.lo[a][k] = INFINITY, node.hi[a][k] = -INFINITY;
+    }
+    for (int k = 0; k < nk; ++k) {
+      const bvh2_node& c = in[kids[k]];
+      for (int a = 0; a < 3; ++a) node.lo[a][k] = c.lo[a], node.hi[a][k] = c.hi[a];
+      node.count[k] = c.count;
+      node.child[k] = c.count ? c.index : 0;
+    }
+    for (int k = 0; k < nk; ++k)
+      if (in[kids[k]].count == 0) node.child[k] = collapse(kids[k]);
+    out[at] = node;
+    return at;
+  }
+};
+
 bvh build_bvh(const std::vector<bounds>& prims, const bvh_params& params) {
   bvh out;
   if (prims.empty()) return out;
@@ -114,8 +156,25 @@ bvh build_bvh(const std::vector<bounds>& prims, const bvh_params& params) {
   b.nodes.reserve(2 * prims.size());
   b.nodes.emplace_back();
   b.build(0, 0, int(prims.size()), 0);
-  out.nodes = std::move(b.nodes);
+  out.nodes2 = std::move(b.nodes);
   out.order = std::move(b.idx);
+  out.box = bounds{out.nodes2[0].lo, out.nodes2[0].hi};
+  if (out.nodes2[0].count) {
+    // A single leaf: wrap it in one 4-wide node so traversal has one shape.
+    bvh4_node node{};
+    for (int k = 0; k < 4; ++k)
+      for (int a = 0; a < 3; ++a) node.lo[a][k] = INFINITY, node.hi[a][k] = -INFINITY;
+    for (int a = 0; a < 3; ++a) node.lo[a][0] = out.box.lo[a], node.hi[a][0] = out.box.hi[a];
+    node.child[0] = out.nodes2[0].index;
+    node.count[0] = out.nodes2[0].count;
+    node.size = 1;
+    out.nodes.push_back(node);
+    return out;
+  }
+  collapser c{out.nodes2, {}};
+  c.out.reserve(out.nodes2.size() / 2 + 1);
+  c.collapse(0);
+  out.nodes = std::move(c.out);
   return out;
 }
 

@@ -1,6 +1,10 @@
-// A binary BVH built by binned SAH over primitive bounds: flat 32-byte nodes in depth-first
-// order, walked with a fixed stack. Knows nothing of shapes; leaves call back.
+// BVH over primitive bounds: built binary by binned SAH, then collapsed to 4 children per
+// node so one SSE slab test checks four boxes at once. Flat node arrays, a fixed stack,
+// children visited nearest first and skipped once the closest hit is nearer.
+// Knows nothing of shapes: leaves call back.
 #pragma once
+#include <immintrin.h>
+
 #include <cstdint>
 #include <vector>
 
@@ -8,61 +12,102 @@
 
 namespace epsray {
 
-struct bvh_node {
+// The binary tree as built (kept for tests and statistics).
+struct bvh2_node {
   vec3 lo;
   std::uint32_t index;  // leaf: first primitive; interior: second child (first is this + 1)
   vec3 hi;
   std::uint16_t count;  // primitives in a leaf, 0 for an interior node
-  std::uint8_t axis;    // split axis: visit the child on the ray's side first
+  std::uint8_t axis;
   std::uint8_t pad;
 };
-static_assert(sizeof(bvh_node) == 32);
+static_assert(sizeof(bvh2_node) == 32);
+
+// Four child boxes in SoA for SSE. child[k] is a node index when count[k] == 0, else the
+// first primitive of a leaf of count[k] primitives. Only the first `size` slots are used.
+struct alignas(16) bvh4_node {
+  float lo[3][4], hi[3][4];
+  std::uint32_t child[4];
+  std::uint16_t count[4];
+  std::uint32_t size;
+  std::uint32_t pad[3];
+};
+static_assert(sizeof(bvh4_node) == 144);
 
 struct bvh {
-  std::vector<bvh_node> nodes;
+  std::vector<bvh2_node> nodes2;
+  std::vector<bvh4_node> nodes;
   std::vector<int> order;  // order[i]: the input index of the i-th primitive in leaf order
+  bounds box;
 };
 
 struct bvh_params {
-  int max_leaf = 4;        // SAH may stop earlier; never more than this many per leaf...
+  int max_leaf = 4;
   int bins = 16;
   float traversal_cost = 1.0f;  // relative to one primitive test
 };
 
 bvh build_bvh(const std::vector<bounds>& prims, const bvh_params& params = {});
 
-constexpr int bvh_stack_size = 64;
+constexpr int bvh_stack_size = 128;
 
-// Visits leaves front to back. `leaf(first, count, tmax)` tests the primitives and may
-// shrink tmax; `any` stops at the first leaf that returns true (shadow rays).
+// Visits leaves front to back. `leaf(first, count, tmax)` tests primitives and may shrink
+// tmax; with `any`, traversal stops at the first leaf that returns true (shadow rays).
 template <bool any, class Leaf>
 inline bool traverse_bvh(const bvh& b, const ray& r, float& tmax, Leaf&& leaf) {
   if (b.nodes.empty()) return false;
-  std::uint32_t stack[bvh_stack_size];
+  float root_near;
+  if (!hit_bounds(b.box.lo, b.box.hi, r, tmax, root_near)) return false;
+  struct entry {
+    std::uint32_t index;
+    std::uint32_t count;  // 0: interior node
+    float tnear;
+  };
+  entry stack[bvh_stack_size];
   int top = 0;
-  std::uint32_t node = 0;
+  stack[top++] = {0, 0, root_near};
+  const __m128 ox = _mm_set1_ps(r.o.x), oy = _mm_set1_ps(r.o.y), oz = _mm_set1_ps(r.o.z);
+  const __m128 ix = _mm_set1_ps(r.inv_d.x), iy = _mm_set1_ps(r.inv_d.y), iz = _mm_set1_ps(r.inv_d.z);
+  const __m128 zero = _mm_setzero_ps();
+  const bvh4_node* nodes = b.nodes.data();
   bool found = false;
-  const bool neg[3] = {r.d.x < 0, r.d.y < 0, r.d.z < 0};
-  const bvh_node* nodes = b.nodes.data();
-  for (;;) {
-    const bvh_node& n = nodes[node];
-    float tn;
-    if (hit_bounds(n.lo, n.hi, r, tmax, tn)) {
-      if (n.count) {
-        if (leaf(n.index, n.count, tmax)) {
-          found = true;
-          if constexpr (any) return true;
-        }
-      } else {
-        std::uint32_t near = node + 1, far = n.index;
-        if (neg[n.axis]) std::swap(near, far);
-        stack[top++] = far;
-        node = near;
-        continue;
+  while (top > 0) {
+    const entry e = stack[--top];
+    if (e.tnear > tmax) continue;  // a nearer hit was found since this was pushed
+    if (e.count) {
+      if (leaf(e.index, e.count, tmax)) {
+        found = true;
+        if constexpr (any) return true;
       }
+      continue;
     }
-    if (top == 0) break;
-    node = stack[--top];
+    const bvh4_node& n = nodes[e.index];
+    // Operand order keeps NaN lanes (0 * inf) from widening the interval.
+    __m128 t0x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[0]), ox), ix);
+    __m128 t1x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[0]), ox), ix);
+    __m128 t0y = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[1]), oy), iy);
+    __m128 t1y = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[1]), oy), iy);
+    __m128 t0z = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[2]), oz), iz);
+    __m128 t1z = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[2]), oz), iz);
+    __m128 tn = _mm_max_ps(_mm_max_ps(_mm_min_ps(t0x, t1x), _mm_min_ps(t0y, t1y)), _mm_max_ps(_mm_min_ps(t0z, t1z), zero));
+    __m128 tf = _mm_min_ps(_mm_min_ps(_mm_max_ps(t0x, t1x), _mm_max_ps(t0y, t1y)),
+                           _mm_min_ps(_mm_max_ps(t0z, t1z), _mm_set1_ps(tmax)));
+    // A few ulps of slack so rays grazing flat boxes (polygons) are kept.
+    int mask = _mm_movemask_ps(_mm_cmple_ps(tn, _mm_mul_ps(tf, _mm_set1_ps(1.00000024f)))) & ((1 << n.size) - 1);
+    if (!mask) continue;
+    alignas(16) float tnear[4];
+    _mm_store_ps(tnear, tn);
+    // Push hit children farthest first so the nearest is popped next.
+    entry hits[4];
+    int nh = 0;
+    for (int k = 0; k < 4; ++k) {
+      if (!(mask >> k & 1)) continue;
+      entry c{n.child[k], n.count[k], tnear[k]};
+      int j = nh++;
+      while (j > 0 && hits[j - 1].tnear < c.tnear) hits[j] = hits[j - 1], --j;
+      hits[j] = c;
+    }
+    for (int k = 0; k < nh; ++k) stack[top++] = hits[k];
   }
   return found;
 }

@@ -15,7 +15,7 @@ world make_world(scene s) {
   w.tree = build_bvh(boxes);
   w.shapes.reserve(s.prims.size());
   for (int src : w.tree.order) {
-    w.shapes.push_back(make_shape(s, s.prims[size_t(src)], w.poly2d));
+    w.shapes.push_back(make_shape(s, s.prims[size_t(src)], w.polys));
     w.info.push_back({s.prims[size_t(src)].material, src});
   }
   for (const light& l : s.lights) {

@@ -18,7 +18,7 @@ struct world {
   scene sc;
   std::vector<shape> shapes;  // indexed by primitive id (BVH leaf order)
   std::vector<shape_info> info;
-  std::vector<vec2> poly2d;
+  polygon_data polys;
   bvh tree;
   std::vector<vec3> light_pos, light_power;
   vec3 ambient{0}, background{0};
@@ -36,12 +36,12 @@ struct hit {
 // Nearest hit with 0 < t < tmax.
 inline bool closest_hit(const world& w, const ray& r, float tmax, hit& h) {
   const shape* shapes = w.shapes.data();
-  const vec2* poly2d = w.poly2d.data();
+  const polygon_data& pd = w.polys;
   return traverse_bvh<false>(w.tree, r, tmax, [&](std::uint32_t first, std::uint32_t count, float& tm) {
     bool any = false;
     for (std::uint32_t i = first; i < first + count; ++i) {
       float t;
-      if (hit_shape(shapes[i], poly2d, r, tm, t)) tm = t, h.t = t, h.prim = int(i), any = true;
+      if (hit_shape(shapes[i], pd, r, tm, t)) tm = t, h.t = t, h.prim = int(i), any = true;
     }
     return any;
   });
@@ -50,12 +50,12 @@ inline bool closest_hit(const world& w, const ray& r, float tmax, hit& h) {
 // Some primitive with 0 < t < tmax, or -1: the shadow test (any hit, early exit).
 inline int first_blocker(const world& w, const ray& r, float tmax) {
   const shape* shapes = w.shapes.data();
-  const vec2* poly2d = w.poly2d.data();
+  const polygon_data& pd = w.polys;
   int blocker = -1;
   traverse_bvh<true>(w.tree, r, tmax, [&](std::uint32_t first, std::uint32_t count, float& tm) {
     for (std::uint32_t i = first; i < first + count; ++i) {
       float t;
-      if (hit_shape(shapes[i], poly2d, r, tm, t)) return blocker = int(i), true;
+      if (hit_shape(shapes[i], pd, r, tm, t)) return blocker = int(i), true;
     }
     return false;
   });

@@ -1,5 +1,6 @@
 #include "geom/shape_build.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace epsray {
@@ -41,7 +42,37 @@ bounds primitive_bounds(const scene& s, const primitive& p) {
   return {};
 }
 
-shape make_shape(const scene& s, const primitive& p, std::vector<vec2>& poly2d) {
+namespace {
+
+// Buckets edges by the band range of their v interval, using the query's own band
+// function, so every v an edge straddles finds the edge in its band.
+void make_bands(polygon_geom& g, polygon_data& pd) {
+  g.bands = 0, g.band_first = 0, g.v0 = 0, g.inv_band = 0;
+  if (g.count < 12) return;  // walking a dozen edges is as fast as a band lookup
+  const vec2* v = pd.verts.data() + g.first;
+  float lo = v[0].y, hi = v[0].y;
+  for (int i = 1; i < g.count; ++i) lo = std::min(lo, v[i].y), hi = std::max(hi, v[i].y);
+  if (!(hi > lo)) return;
+  g.bands = std::min(64, g.count / 2);
+  g.v0 = lo;
+  g.inv_band = float(g.bands) / (hi - lo);
+  g.band_first = std::int32_t(pd.band_begin.size());
+  std::vector<std::vector<std::int32_t>> lists(size_t(g.bands));
+  for (int i = 0; i < g.count; ++i) {
+    vec2 a = v[i == 0 ? g.count - 1 : i - 1], b = v[i];
+    int b0 = polygon_band(g, std::min(a.y, b.y)), b1 = polygon_band(g, std::max(a.y, b.y));
+    for (int k = b0; k <= b1; ++k) lists[size_t(k)].push_back(i);
+  }
+  for (const auto& l : lists) {
+    pd.band_begin.push_back(std::int32_t(pd.band_edges.size()));
+    pd.band_edges.insert(pd.band_edges.end(), l.begin(), l.end());
+  }
+  pd.band_begin.push_back(std::int32_t(pd.band_edges.size()));
+}
+
+}  // namespace
+
+shape make_shape(const scene& s, const primitive& p, polygon_data& pd) {
   shape out;
   switch (p.kind) {
     case prim_kind::sphere:
@@ -69,8 +100,9 @@ shape make_shape(const scene& s, const primitive& p, std::vector<vec2>& poly2d) 
       vec3 an = glm::abs(n);
       int drop = an.x > an.y ? (an.x > an.z ? 0 : 2) : (an.y > an.z ? 1 : 2);
       int u = (drop + 1) % 3, w = (drop + 2) % 3;
-      out.poly = {n, glm::dot(n, v[0]), std::int32_t(poly2d.size()), p.count, u, w};
-      for (int i = 0; i < p.count; ++i) poly2d.push_back({v[i][u], v[i][w]});
+      out.poly = {n, glm::dot(n, v[0]), std::int32_t(pd.verts.size()), p.count, u, w, 0, 0, 0, 0};
+      for (int i = 0; i < p.count; ++i) pd.verts.push_back({v[i][u], v[i][w]});
+      make_bands(out.poly, pd);
       break;
     }
     case prim_kind::disk:

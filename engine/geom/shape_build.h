@@ -7,8 +7,8 @@
 
 namespace epsray {
 
-// Appends a polygon's 2D projection to `poly2d` when it needs one (n > 3).
-shape make_shape(const scene& s, const primitive& p, std::vector<vec2>& poly2d);
+// Appends an n-gon's 2D projection (n > 3) and edge bands to `pd`.
+shape make_shape(const scene& s, const primitive& p, polygon_data& pd);
 bounds primitive_bounds(const scene& s, const primitive& p);
 // Unit normal of a planar primitive's plane, from its first two edges (whitted.md 2).
 vec3 polygon_normal(const scene& s, const primitive& p);

@@ -19,8 +19,12 @@ struct sphere_geom { vec3 c; float r; };              // r may be negative (flip
 struct triangle_geom { vec3 v0, e1, e2; };            // v1 = v0 + e1, v2 = v0 + e2
 struct polygon_geom {                                  // n-gon, even-odd rule in 2D
   vec3 n; float d;                                     // plane dot(n, p) = d
-  std::int32_t first, count;                           // into world::poly2d
+  std::int32_t first, count;                           // into polygon_data::verts
   std::int32_t ax_u, ax_v;                             // projection axes
+  // Large polygons bucket their edges into horizontal bands of the projected v range so
+  // the crossing test walks only edges that can straddle the hit (0 bands: walk all).
+  std::int32_t bands, band_first;                      // into polygon_data::band_begin
+  float v0, inv_band;                                  // band of v: (v - v0) * inv_band
 };
 struct cone_geom { vec3 base, axis; float h, r0, k; };  // radius r0 + k z, z in [0, h], r >= 0
 struct disk_geom { vec3 c, n; float r2; };
@@ -92,25 +96,50 @@ inline bool hit_triangle(const triangle_geom& g, const ray& r, float tmax, float
   return true;
 }
 
-// Even-odd crossing test of (u, v) against a 2D polygon.
-inline bool inside_polygon(const vec2* v, int n, float u, float w) {
+// Projected vertices of the n-gons (n > 3) and their edge bands.
+struct polygon_data {
+  std::vector<vec2> verts;
+  std::vector<std::int32_t> band_begin;  // per band: first entry in band_edges; one extra at the end
+  std::vector<std::int32_t> band_edges;  // edge i joins verts i-1 and i (cyclically)
+};
+
+// Does edge (a, b) flip the even-odd parity of (u, w)? One formula for every caller, so a
+// point is classified the same whether edges are walked all or by band.
+inline bool crosses(vec2 a, vec2 b, float u, float w) {
+  if ((b.y > w) == (a.y > w)) return false;
+  float x = a.x + (w - a.y) * (b.x - a.x) / (b.y - a.y);
+  return u < x;
+}
+
+inline int polygon_band(const polygon_geom& g, float w) {
+  float f = (w - g.v0) * g.inv_band;
+  return f <= 0 ? 0 : (f >= float(g.bands - 1) ? g.bands - 1 : int(f));
+}
+
+inline bool inside_polygon(const polygon_geom& g, const polygon_data& pd, float u, float w) {
+  const vec2* v = pd.verts.data() + g.first;
+  const int n = g.count;
   bool in = false;
-  for (int i = 0, j = n - 1; i < n; j = i++) {
-    if ((v[i].y > w) != (v[j].y > w)) {
-      float x = v[j].x + (w - v[j].y) * (v[i].x - v[j].x) / (v[i].y - v[j].y);
-      if (u < x) in = !in;
-    }
+  if (g.bands == 0) {
+    for (int i = 0, j = n - 1; i < n; j = i++) in ^= crosses(v[j], v[i], u, w);
+    return in;
+  }
+  const std::int32_t* bb = pd.band_begin.data() + g.band_first;
+  int b = polygon_band(g, w);
+  for (std::int32_t k = bb[b]; k < bb[b + 1]; ++k) {
+    int i = pd.band_edges[size_t(k)];
+    in ^= crosses(v[i == 0 ? n - 1 : i - 1], v[i], u, w);
   }
   return in;
 }
 
-inline bool hit_polygon(const polygon_geom& g, const vec2* poly2d, const ray& r, float tmax, float& t) {
+inline bool hit_polygon(const polygon_geom& g, const polygon_data& pd, const ray& r, float tmax, float& t) {
   float dn = glm::dot(g.n, r.d);
   if (dn == 0) return false;
   float tt = (g.d - glm::dot(g.n, r.o)) / dn;
   if (!(tt > 0 && tt < tmax)) return false;
   vec3 p = r.o + tt * r.d;
-  if (!inside_polygon(poly2d + g.first, g.count, p[g.ax_u], p[g.ax_v])) return false;
+  if (!inside_polygon(g, pd, p[g.ax_u], p[g.ax_v])) return false;
   t = tt;
   return true;
 }
@@ -166,11 +195,11 @@ inline bool hit_box(const box_geom& g, const ray& r, float tmax, float& t) {
   return false;
 }
 
-inline bool hit_shape(const shape& s, const vec2* poly2d, const ray& r, float tmax, float& t) {
+inline bool hit_shape(const shape& s, const polygon_data& pd, const ray& r, float tmax, float& t) {
   switch (s.kind) {
     case shape_kind::sphere: return hit_sphere(s.sphere, r, tmax, t);
     case shape_kind::triangle: return hit_triangle(s.tri, r, tmax, t);
-    case shape_kind::polygon: return hit_polygon(s.poly, poly2d, r, tmax, t);
+    case shape_kind::polygon: return hit_polygon(s.poly, pd, r, tmax, t);
     case shape_kind::cone: return hit_cone(s.cone, r, tmax, t);
     case shape_kind::disk: return hit_disk(s.disk, r, tmax, t);
     case shape_kind::box: return hit_box(s.box, r, tmax, t);

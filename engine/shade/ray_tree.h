@@ -9,11 +9,12 @@
 
 namespace epsray {
 
-// Per light at a hit: lit, behind the surface, or the id (>= 0) of a blocking primitive.
+// Per light at a hit: lit, behind the surface, or the scene index (>= 0) of a blocker.
+// Primitives are named by their index in scene::prims, which does not depend on the BVH.
 enum : std::int32_t { light_lit = -1, light_behind = -2 };
 
 struct ray_tree_node {
-  std::int32_t prim = -1;        // -1: the ray missed everything
+  std::int32_t prim = -1;        // index into scene::prims; -1: the ray missed everything
   std::int16_t reflect = -1;     // child node indices, -1 when not traced
   std::int16_t refract = -1;
   std::uint32_t lights = 0;      // first of world::light_pos.size() entries in ray_tree::lights

@@ -35,7 +35,7 @@ vec3 radiance(const world& w, const ray& r, int depth, trace_state& st) {
 
   if (tree) {
     ray_tree_node& n = tree->nodes[size_t(node)];
-    n.prim = h.prim;
+    n.prim = w.info[size_t(h.prim)].source;
     n.entering = entering;
     n.lights = std::uint32_t(tree->lights.size());
   }
@@ -53,7 +53,7 @@ vec3 radiance(const world& w, const ray& r, int depth, trace_state& st) {
       vec3 so = w.light_pos[j] - above;
       float dist = glm::length(so);
       int blocker = dist > 0 ? first_blocker(w, make_ray(above, so / dist), dist) : -1;
-      status = blocker >= 0 ? blocker : light_lit;
+      status = blocker >= 0 ? w.info[size_t(blocker)].source : light_lit;
       if (blocker < 0) {
         float spec = 0;
         if (m.shine > 0) {
