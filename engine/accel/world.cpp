@@ -17,6 +17,7 @@ world make_world(scene s) {
   for (int src : w.tree.order) {
     w.shapes.push_back(make_shape(s, s.prims[size_t(src)], w.polys));
     w.info.push_back({s.prims[size_t(src)].material, src});
+    w.prim_bounds.push_back(boxes[size_t(src)]);
   }
   for (const light& l : s.lights) {
     w.light_pos.push_back(l.position);

@@ -18,6 +18,7 @@ struct world {
   scene sc;
   std::vector<shape> shapes;  // indexed by primitive id (BVH leaf order)
   std::vector<shape_info> info;
+  std::vector<bounds> prim_bounds;  // per primitive id, for shaft culling
   polygon_data polys;
   bvh tree;
   std::vector<vec3> light_pos, light_power;
