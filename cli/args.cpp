@@ -36,7 +36,9 @@ std::string usage_text() {
          "                      [--out-dir DIR] [--png] [--pfm] [--stats OUT.json] [--verify]\n"
          "       epsray view   SCENE [--path FILE] [--size WxH] [--eps E]\n"
          "       epsray info\n"
-         "extra: --tile-rows N (rows per tile), --quiet (no summary on stdout)\n";
+         "extra: --tile-rows N (rows per tile), --quiet (no summary on stdout),\n"
+         "       --reasons OUT.png (render: the error-coded image), --verify (render too),\n"
+         "       --min-cell-pixels P (no linetree cell is split into children covering fewer pixels)\n";
 }
 
 cli_options parse_args(const std::vector<std::string>& a) {
@@ -79,6 +81,15 @@ cli_options parse_args(const std::vector<std::string>& a) {
     } else if (f == "--stats") o.stats = value();
     else if (f == "--out-dir" && walk) o.out_dir = value();
     else if (f == "--verify") o.verify = true;
+    else if (f == "--reasons" && !walk) o.reasons = value();
+    else if (f == "--min-cell-pixels") {
+      const std::string& v = value();
+      char* end = nullptr;
+      double e = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end || !std::isfinite(e) || e < 0 || e > 1e9)
+        bad("bad --min-cell-pixels '" + v + "': expected a number >= 0");
+      o.min_cell_pixels = float(e);
+    }
     else if (f == "--quiet") o.quiet = true;
     else bad("unknown option '" + f + "' for " + o.command);
   }

@@ -24,7 +24,8 @@ struct cli_options {
   float eps = 0.05f;
   int threads = 0;  // 0: all hardware threads
   int tile_rows = 0;
-  std::string png, pfm, stats, out_dir;
+  std::string png, pfm, stats, out_dir, reasons;
+  float min_cell_pixels = 16;
   bool png_flag = false, pfm_flag = false, verify = false, quiet = false;
 };
 

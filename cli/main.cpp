@@ -12,6 +12,7 @@
 #include "scene/input_error.h"
 #include "scene/nff.h"
 #include "scene/path_file.h"
+#include "sched/verify.h"
 #include "stats_json.h"
 
 using namespace epsray;
@@ -49,11 +50,12 @@ int run_render(const cli_options& o) {
   check_writable(o.png, "--png");
   check_writable(o.pfm, "--pfm");
   check_writable(o.stats, "--stats");
+  check_writable(o.reasons, "--reasons");
   if (o.command != "render")
     throw std::runtime_error("'" + o.command + "' is not implemented yet (walkthroughs and the viewer come later)");
-  if (o.mode != render_mode::base)
-    throw std::runtime_error(std::string("--mode ") + mode_name(o.mode) +
-                             " is not implemented yet; use --mode base");
+  if (o.mode == render_mode::full)
+    throw std::runtime_error("--mode full is not implemented yet (reprojection comes with walkthroughs); "
+                             "use --mode interp or base");
 
   int width = o.size ? o.size->first : sc.view.width;
   int height = o.size ? o.size->second : sc.view.height;
@@ -61,12 +63,19 @@ int run_render(const cli_options& o) {
   auto t0 = std::chrono::steady_clock::now();
   world w = make_world(std::move(sc));
   workers pool(threads);
+  linetree_set trees(w.prim_bounds);
   frame_params fp;
   fp.mode = o.mode;
-  fp.eps = o.eps;
+  fp.interp.eps = o.eps;
+  fp.interp.min_cell_pixels = o.min_cell_pixels;
+  fp.trees = &trees;
   fp.tile_rows = o.tile_rows;
-  frame_result fr = render_frame(pool, w, make_camera(view, width, height), fp);
+  fp.reasons = !o.reasons.empty();
+  const camera cam = make_camera(view, width, height);
+  frame_result fr = render_frame(pool, w, cam, fp);
   double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  verify_result vr;
+  if (o.verify) vr = verify_frame(pool, w, cam, fr.img, o.eps);
 
   for (const glm::vec3& p : fr.img.pixels)
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
@@ -74,11 +83,15 @@ int run_render(const cli_options& o) {
 
   if (!o.pfm.empty()) write_pfm(fr.img, o.pfm);
   if (!o.png.empty()) write_png(fr.img, o.png);
+  if (!o.reasons.empty()) write_png(fr.reasons, o.reasons);
   if (!o.stats.empty()) {
     run_record r;
     r.scene = o.scene, r.mode = mode_name(o.mode), r.width = width, r.height = height, r.threads = threads;
     r.eps = o.eps;
-    r.frames.push_back({o.frame.value_or(0), fr.ms, fr.pixels, fr.rays, fr.memory_bytes});
+    frame_record fr_rec{o.frame.value_or(0), fr.ms, fr.pixels, fr.rays, fr.memory_bytes};
+    fr_rec.verified = o.verify;
+    fr_rec.max_rel_err = vr.max_rel_err, fr_rec.p999_rel_err = vr.p999_rel_err, fr_rec.violations = vr.violations;
+    r.frames.push_back(fr_rec);
     r.total_ms = total_ms;
     r.peak_memory_bytes = peak_memory_bytes();
     write_stats_json(r, o.stats);
@@ -89,6 +102,11 @@ int run_render(const cli_options& o) {
     std::printf("frame %.1f ms (total %.1f ms with BVH build); rays: eye %llu reflect %llu refract %llu shadow %llu\n",
                 fr.ms, total_ms, (unsigned long long)fr.rays.eye, (unsigned long long)fr.rays.reflect,
                 (unsigned long long)fr.rays.refract, (unsigned long long)fr.rays.shadow);
+    std::printf("pixels: interp %llu base %llu; memory %.1f MB\n", (unsigned long long)fr.pixels.interp,
+                (unsigned long long)fr.pixels.base, double(fr.memory_bytes) / 1e6);
+    if (o.verify)
+      std::printf("verify: max error %.4g, 99.9%% %.4g, %llu pixels over eps %g\n", vr.max_rel_err, vr.p999_rel_err,
+                  (unsigned long long)vr.violations, double(o.eps));
     if (!o.png.empty()) std::printf("wrote %s\n", o.png.c_str());
     if (!o.pfm.empty()) std::printf("wrote %s\n", o.pfm.c_str());
     if (!o.stats.empty()) std::printf("wrote %s\n", o.stats.c_str());

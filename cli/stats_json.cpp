@@ -31,12 +31,15 @@ void write_stats_json(const run_record& r, const std::string& path) {
   j["threads"] = r.threads;
   j["frames"] = nlohmann::json::array();
   for (const frame_record& f : r.frames) {
-    j["frames"].push_back({{"index", f.index},
+    nlohmann::json fj = {{"index", f.index},
                            {"ms", f.ms},
                            {"pixels", {{"fast", f.pixels.fast}, {"interp", f.pixels.interp}, {"base", f.pixels.base}}},
                            {"rays", {{"eye", f.rays.eye}, {"reflect", f.rays.reflect}, {"refract", f.rays.refract},
                                      {"shadow", f.rays.shadow}}},
-                           {"memory_bytes", f.memory_bytes}});
+                           {"memory_bytes", f.memory_bytes}};
+    if (f.verified)
+      fj["verify"] = {{"max_rel_err", f.max_rel_err}, {"violations", f.violations}, {"p999_rel_err", f.p999_rel_err}};
+    j["frames"].push_back(fj);
   }
   j["total_ms"] = r.total_ms;
   j["peak_memory_bytes"] = r.peak_memory_bytes;

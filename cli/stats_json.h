@@ -13,6 +13,9 @@ struct frame_record {
   pixel_counts pixels;
   ray_counts rays;
   std::uint64_t memory_bytes = 0;
+  bool verified = false;
+  double max_rel_err = 0, p999_rel_err = 0;
+  std::uint64_t violations = 0;
 };
 
 struct run_record {

@@ -27,27 +27,60 @@ bool parse_mode(const std::string& s, render_mode& out) {
   return false;
 }
 
+namespace {
+
+struct tile_totals {
+  ray_counts rays;
+  pixel_counts pixels;
+};
+
+void shade_tile_interp(const interp_frame& f, const tile& t, image& out, image* reasons, tile_totals& tot) {
+  trace_state st;
+  interp_scratch scratch;
+  for (int y = t.y0; y < t.y1; ++y) {
+    for (int x = 0; x < f.cam->width; ++x) {
+      pixel_result r = shade_pixel_interp(f, x, y, st, scratch);
+      out.at(x, y) = r.L;
+      if (reasons) reasons->at(x, y) = reason_colour(r.reason);
+      (r.path == pixel_path::interp ? tot.pixels.interp : tot.pixels.base) += 1;
+    }
+  }
+  tot.rays = st.counts;
+}
+
+}  // namespace
+
 frame_result render_frame(workers& pool, const world& w, const camera& cam, const frame_params& p) {
-  if (p.mode != render_mode::base)
-    throw std::logic_error(std::string("mode '") + mode_name(p.mode) + "' is not implemented yet");
+  if (p.mode == render_mode::full) throw std::logic_error("mode 'full' is not implemented yet (reprojection comes with walkthroughs)");
+  if (p.mode == render_mode::interp && !p.trees) throw std::logic_error("interp mode needs a linetree set");
   auto t0 = std::chrono::steady_clock::now();
   frame_result out;
   out.img = image(cam.width, cam.height);
+  if (p.reasons) out.reasons = image(cam.width, cam.height);
   int rows = p.tile_rows > 0 ? p.tile_rows : default_tile_rows(cam.height, pool.threads());
   std::vector<tile> tiles = make_tiles(cam.height, rows);
-  std::vector<ray_counts> counts(tiles.size());
+  std::vector<tile_totals> totals(tiles.size());
   std::vector<ray_tree_store> trees(p.keep_ray_trees ? tiles.size() : 0);
+  interp_frame f{&w, p.trees, &cam, p.interp};
   pool.run([&] {
     tbb::parallel_for(size_t(0), tiles.size(), [&](size_t i) {
-      trace_state st;
-      shade_rows_base(w, cam, tiles[i].y0, tiles[i].y1, out.img, st, p.keep_ray_trees ? &trees[i] : nullptr);
-      counts[i] = st.counts;
+      if (p.mode == render_mode::base) {
+        trace_state st;
+        shade_rows_base(w, cam, tiles[i].y0, tiles[i].y1, out.img, st, p.keep_ray_trees ? &trees[i] : nullptr);
+        totals[i].rays = st.counts;
+        totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
+        if (p.reasons)
+          for (int y = tiles[i].y0; y < tiles[i].y1; ++y)
+            for (int x = 0; x < cam.width; ++x) out.reasons.at(x, y) = reason_colour(pixel_reason::traced);
+      } else {
+        shade_tile_interp(f, tiles[i], out.img, p.reasons ? &out.reasons : nullptr, totals[i]);
+      }
     });
   });
-  for (const ray_counts& c : counts) out.rays += c;
+  for (const tile_totals& t : totals) out.rays += t.rays, out.pixels += t.pixels;
   for (const ray_tree_store& t : trees) out.trees.append(t);
-  out.pixels.base = std::uint64_t(cam.width) * std::uint64_t(cam.height);
-  out.memory_bytes = out.img.pixels.capacity() * sizeof(glm::vec3) + out.trees.bytes();
+  out.memory_bytes = out.img.pixels.capacity() * sizeof(glm::vec3) + out.trees.bytes() +
+                     (p.trees ? p.trees->bytes() : 0);
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

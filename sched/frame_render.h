@@ -5,6 +5,8 @@
 #include <string>
 
 #include "image/image.h"
+#include "interp/interp_shade.h"
+#include "interp/linetree.h"
 #include "scene/camera.h"
 #include "shade/ray_tree_store.h"
 #include "shade/whitted.h"
@@ -18,21 +20,28 @@ bool parse_mode(const std::string& s, render_mode& out);
 
 struct pixel_counts {
   std::uint64_t fast = 0, interp = 0, base = 0;
+  pixel_counts& operator+=(const pixel_counts& o) {
+    fast += o.fast, interp += o.interp, base += o.base;
+    return *this;
+  }
 };
 
 struct frame_params {
   render_mode mode = render_mode::base;
-  float eps = 0.05f;
-  int tile_rows = 0;              // 0: default_tile_rows
-  bool keep_ray_trees = false;    // fill frame_result::trees, one per pixel in raster order
+  interp_params interp;            // eps and the cost model, for interp and full
+  linetree_set* trees = nullptr;   // kept between frames by the caller; needed by interp/full
+  int tile_rows = 0;               // 0: default_tile_rows
+  bool keep_ray_trees = false;     // base: fill frame_result::trees, one per pixel, raster order
+  bool reasons = false;            // fill frame_result::reasons (the error-coded image)
 };
 
 struct frame_result {
   image img;
+  image reasons;  // with frame_params::reasons: the paper's colours per pixel
   pixel_counts pixels;
   ray_counts rays;
   double ms = 0;
-  std::uint64_t memory_bytes = 0;  // what this frame holds: image, ray trees
+  std::uint64_t memory_bytes = 0;  // image, ray trees, linetrees
   ray_tree_store trees;
 };
 

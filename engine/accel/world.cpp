@@ -19,6 +19,8 @@ world make_world(scene s) {
     w.info.push_back({s.prims[size_t(src)].material, src});
     w.prim_bounds.push_back(boxes[size_t(src)]);
   }
+  w.shape_of.resize(s.prims.size());
+  for (size_t i = 0; i < w.info.size(); ++i) w.shape_of[size_t(w.info[i].source)] = int(i);
   for (const light& l : s.lights) {
     w.light_pos.push_back(l.position);
     w.light_power.push_back(light_intensity(s, l));

@@ -19,6 +19,7 @@ struct world {
   std::vector<shape> shapes;  // indexed by primitive id (BVH leaf order)
   std::vector<shape_info> info;
   std::vector<bounds> prim_bounds;  // per primitive id, for shaft culling
+  std::vector<int> shape_of;        // scene::prims index -> primitive id
   polygon_data polys;
   bvh tree;
   std::vector<vec3> light_pos, light_power;

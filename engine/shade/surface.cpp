@@ -129,4 +129,36 @@ vec2 surface_uv(const world& w, int prim, vec3 p) {
   return {0, 0};
 }
 
+bool planar_uv_frame(const world& w, int prim, vec3 p, vec3& o, vec3& eu, vec3& ev) {
+  const scene& s = w.sc;
+  const primitive& pr = s.prims[size_t(w.info[size_t(prim)].source)];
+  switch (pr.kind) {
+    case prim_kind::polygon:
+    case prim_kind::patch: {
+      const vec3* v = &s.vertices[size_t(pr.first)];
+      o = v[0];
+      eu = glm::normalize(v[1] - v[0]);
+      ev = glm::cross(polygon_normal(s, pr), eu);
+      return true;
+    }
+    case prim_kind::disk:
+      o = pr.a;
+      eu = perpendicular(pr.b);
+      ev = glm::cross(pr.b, eu);
+      return true;
+    case prim_kind::box: {
+      vec3 q = p - pr.a;
+      vec3 l{glm::dot(q, pr.frame[0]), glm::dot(q, pr.frame[1]), glm::dot(q, pr.frame[2])};
+      vec3 n = glm::abs(l / pr.b);
+      int i = n.x > n.y ? (n.x > n.z ? 0 : 2) : (n.y > n.z ? 1 : 2);
+      int j = (i + 1) % 3, k = (i + 2) % 3;
+      o = pr.a - pr.b[j] * pr.frame[j] - pr.b[k] * pr.frame[k];
+      eu = pr.frame[j];
+      ev = pr.frame[k];
+      return true;
+    }
+    default: return false;
+  }
+}
+
 }  // namespace epsray

@@ -14,4 +14,8 @@ surface surface_at(const world& w, int prim, const ray& r, float t);
 // Texture coordinates in world units along the surface (docs/scene-format.md).
 vec2 surface_uv(const world& w, int prim, vec3 p);
 
+// For planar surfaces (polygons, patches, disks, a box face holding p) the uv map is affine:
+// uv = (dot(p - o, eu), dot(p - o, ev)). False for curved primitives.
+bool planar_uv_frame(const world& w, int prim, vec3 p, vec3& o, vec3& eu, vec3& ev);
+
 }  // namespace epsray

@@ -15,14 +15,21 @@ vec3 reflect_dir(vec3 d, vec3 nf) { return glm::normalize(d - 2 * glm::dot(d, nf
 }  // namespace
 
 vec3 radiance(const world& w, const ray& r, int depth, trace_state& st) {
+  hit h;
+  if (!closest_hit(w, r, std::numeric_limits<float>::infinity(), h)) {
+    if (st.tree) st.tree->nodes.emplace_back();  // a miss: prim -1
+    return w.background;
+  }
+  return shade_hit(w, r, h, depth, st);
+}
+
+vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_state& st) {
   ray_tree* tree = st.tree;
   int node = -1;
   if (tree) {
     node = int(tree->nodes.size());
     tree->nodes.emplace_back();
   }
-  hit h;
-  if (!closest_hit(w, r, std::numeric_limits<float>::infinity(), h)) return w.background;
 
   const surface sf = surface_at(w, h.prim, r, h.t);
   const material& m = w.sc.materials[size_t(w.info[size_t(h.prim)].material)];
@@ -30,7 +37,13 @@ vec3 radiance(const world& w, const ray& r, int depth, trace_state& st) {
   const vec3 nf = entering ? sf.ns : -sf.ns;
   const vec3 v = -r.d;
   vec3 colour = m.color;
-  if (m.texture >= 0) colour *= sample_texture(w.sc.textures[size_t(m.texture)], surface_uv(w, h.prim, sf.p));
+  const bool split = depth == 1 && m.texture >= 0 && st.root_tex_factor;
+  vec3 tex_factor{0};
+  if (m.texture >= 0) {
+    vec2 uv = surface_uv(w, h.prim, sf.p);
+    if (split) *st.root_uv = uv, tex_factor = w.ambient * m.kd * m.color;
+    colour *= sample_texture(w.sc.textures[size_t(m.texture)], uv);
+  }
   const vec3 kd_c = m.kd * colour;
 
   if (tree) {
@@ -61,10 +74,12 @@ vec3 radiance(const world& w, const ray& r, int depth, trace_state& st) {
           spec = std::pow(std::max(0.0f, glm::dot(nf, hj)), m.shine);
         }
         L += w.light_power[j] * (kd_c * ndl + m.ks * spec);
+        if (split) tex_factor += w.light_power[j] * (m.kd * m.color * ndl);
       }
     }
     if (tree) tree->lights.push_back(status);
   }
+  if (split) *st.root_tex_factor = tex_factor;
 
   if (depth < max_depth && m.ks > 0) {
     ++st.counts.reflect;

@@ -22,6 +22,11 @@ struct ray_counts {
 struct trace_state {
   ray_counts counts;
   ray_tree* tree = nullptr;
+  // When set, shading at depth 1 stores the factor the root's texture multiplies
+  // (A*Kd*C + sum of lit Ij*Kd*C*dot(Nf, Lj), texture excluded) and the root's uv, so an
+  // interpolant can keep texture lookups out of the interpolated terms.
+  vec3* root_tex_factor = nullptr;
+  vec2* root_uv = nullptr;
 };
 
 // Radiance along an eye ray (depth 1); records the ray tree into state.tree when set.
@@ -29,5 +34,10 @@ vec3 trace_eye(const world& w, const ray& r, trace_state& state);
 
 // Radiance along any ray at the given depth (1 = eye ray).
 vec3 radiance(const world& w, const ray& r, int depth, trace_state& state);
+
+// Radiance leaving the surface at a hit already found (the eye ray's visibility hit, or a
+// line's hit on one object); records the ray tree from this node on when state.tree is set
+// (the caller clears it).
+vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_state& state);
 
 }  // namespace epsray

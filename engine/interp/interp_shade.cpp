@@ -1,0 +1,205 @@
+#include "interp/interp_shade.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "predicate/error_predicate.h"
+#include "shade/texture.h"
+
+namespace epsray {
+
+namespace {
+
+constexpr float floor_radiance = 1.0f / 255;  // whitted.md 6
+
+// Screen pixels whose eye rays fall in the cell: the overlap of the projections of its
+// front and back faces (bounding rectangles, so an overestimate).
+float cell_pixels(const camera& cam, const facepair& fp, const lt_node& n) {
+  float x0[2] = {INFINITY, INFINITY}, x1[2] = {-INFINITY, -INFINITY};
+  float y0[2] = {INFINITY, INFINITY}, y1[2] = {-INFINITY, -INFINITY};
+  for (int face = 0; face < 2; ++face) {
+    for (int k = 0; k < 4; ++k) {
+      float a = (k & 1) ? n.hi[2 * face] : n.lo[2 * face];
+      float b = (k & 2) ? n.hi[2 * face + 1] : n.lo[2 * face + 1];
+      glm::vec3 p = face == 0 ? front_point(fp, a, b) : back_point(fp, a, b);
+      glm::vec3 q = p - cam.origin;
+      float z = glm::dot(q, cam.w);
+      if (z <= 0) return std::numeric_limits<float>::infinity();
+      float px = glm::dot(q, cam.r) / (z * cam.step), py = glm::dot(q, cam.u) / (z * cam.step);
+      x0[face] = std::min(x0[face], px), x1[face] = std::max(x1[face], px);
+      y0[face] = std::min(y0[face], py), y1[face] = std::max(y1[face], py);
+    }
+  }
+  float w = std::min(x1[0], x1[1]) - std::max(x0[0], x0[1]);
+  float h = std::min(y1[0], y1[1]) - std::max(y0[0], y0[1]);
+  return w > 0 && h > 0 ? w * h : 0;
+}
+
+// Traces the 16 extremal lines against the object alone (occlusion in front of it is the
+// visibility ray's business), records their ray trees, and asks the predicate.
+std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const facepair& fp, const lt_node& n,
+                                               trace_state& st, interp_scratch& scratch) {
+  auto ip = std::make_unique<interpolant>();
+  const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
+  ip->textured = m.texture >= 0;
+  ray_tree* saved_tree = st.tree;
+  for (int k = 0; k < 16; ++k) {
+    glm::vec3 p0 = front_point(fp, (k & 1) ? n.hi[0] : n.lo[0], (k & 2) ? n.hi[1] : n.lo[1]);
+    glm::vec3 p1 = back_point(fp, (k & 4) ? n.hi[2] : n.lo[2], (k & 8) ? n.hi[3] : n.lo[3]);
+    ray r = make_ray(p0, glm::normalize(p1 - p0));
+    ++st.counts.eye;
+    float t;
+    if (!hit_shape(w.shapes[size_t(prim)], w.polys, r, std::numeric_limits<float>::infinity(), t)) {
+      ip->reason = cell_reason::missed;
+      st.tree = saved_tree;
+      return ip;
+    }
+    ray_tree& tree = scratch.trees[size_t(k)];
+    tree.clear();
+    st.tree = &tree;
+    if (ip->textured) st.root_tex_factor = &ip->tex[k], st.root_uv = &ip->uv[k];
+    glm::vec3 L = shade_hit(w, r, hit{t, prim}, 1, st);
+    st.root_tex_factor = nullptr, st.root_uv = nullptr;
+    if (ip->textured) L -= ip->tex[k] * sample_texture(w.sc.textures[size_t(m.texture)], ip->uv[k]);
+    ip->rad[k] = L;
+  }
+  st.tree = saved_tree;
+  for (int k = 1; k < 16; ++k) {
+    if (!same_topology(scratch.trees[0], scratch.trees[size_t(k)])) {
+      ip->reason = cell_reason::discontinuity;
+      return ip;
+    }
+  }
+  cell_query q;
+  q.w = &w, q.prim = prim, q.fp = &fp, q.lo = n.lo, q.hi = n.hi, q.tree = &scratch.trees[0], q.textured = ip->textured;
+  cell_bound b = bound_cell(q);
+  ip->reason = b.reason, ip->err = b.err, ip->err_tex = b.err_tex, ip->err_uv = b.err_uv;
+  return ip;
+}
+
+// Is the proven bound within epsilon for every line of the cell? Decides subdivision, so
+// it depends on the cell alone. Textured cells defer to the per-pixel test.
+bool cell_accurate(const interpolant& ip, float eps) {
+  if (ip.reason != cell_reason::valid) return false;
+  if (ip.textured) return true;
+  for (int c = 0; c < 3; ++c) {
+    float lo = INFINITY;
+    for (int k = 0; k < 16; ++k) lo = std::min(lo, ip.rad[k][c]);
+    if (!(ip.err[c] <= eps * std::max(lo - ip.err[c], floor_radiance))) return false;
+  }
+  return true;
+}
+
+// The rigorous per-pixel test: Lw >= La - E, so E <= eps * max(La - E, 1/255) bounds the
+// relative error of whitted.md 6. A small relative margin covers float rounding.
+bool within(glm::vec3 La, glm::vec3 E, float eps) {
+  for (int c = 0; c < 3; ++c) {
+    float e = E[c] + 1e-5f * std::fabs(La[c]) + 1e-7f;
+    if (!(e <= eps * std::max(La[c] - e, floor_radiance))) return false;
+  }
+  return true;
+}
+
+// Interpolated radiance of a textured cell, or false when the texture error cannot be
+// bounded within epsilon at this point (a checker edge inside the uv error box).
+bool textured_radiance(const world& w, int prim, const interpolant& ip, const float wts[16], float eps,
+                       glm::vec3& La) {
+  const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
+  const texture& tx = w.sc.textures[size_t(m.texture)];
+  glm::vec3 g = interpolate(ip.tex, wts), h = interpolate(ip.rad, wts);
+  glm::vec2 uv = interpolate(ip.uv, wts);
+  glm::vec3 T = sample_texture(tx, uv), ET{0};
+  if (tx.kind == texture_kind::checker) {
+    glm::vec2 lo = (uv - ip.err_uv) / tx.scale, hi = (uv + ip.err_uv) / tx.scale;
+    if (std::floor(2 * lo.x) != std::floor(2 * hi.x) || std::floor(2 * lo.y) != std::floor(2 * hi.y)) return false;
+  } else {
+    ET = tx.max_step * (ip.err_uv.x * float(tx.width) / tx.scale.x + ip.err_uv.y * float(tx.height) / tx.scale.y);
+  }
+  La = T * g + h;
+  // |T* g* - T g| <= |T* - T| g* + T |g* - g|, with g* <= g + err_tex.
+  glm::vec3 E = ET * (g + ip.err_tex) + T * ip.err_tex + ip.err;
+  return within(La, E, eps);
+}
+
+}  // namespace
+
+glm::vec3 reason_colour(pixel_reason r) {
+  switch (r) {
+    case pixel_reason::interpolated: return {0.55f, 0.62f, 0.78f};
+    case pixel_reason::discontinuity: return {0.1f, 0.8f, 0.1f};
+    case pixel_reason::missed: return {0.95f, 0.9f, 0.1f};
+    case pixel_reason::blocked: return {0.9f, 0.1f, 0.1f};
+    case pixel_reason::nonlinear: return {0.9f, 0.1f, 0.9f};
+    case pixel_reason::traced: return {0.15f, 0.15f, 0.15f};
+  }
+  return {0, 0, 0};
+}
+
+pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state& st, interp_scratch& scratch) {
+  const world& w = *f.w;
+  const camera& cam = *f.cam;
+  pixel_result out;
+  ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
+  ++st.counts.eye;
+  hit h;
+  if (!closest_hit(w, r, std::numeric_limits<float>::infinity(), h)) {
+    out.L = w.background;  // the visibility ray is the whole Whitted computation here
+    return out;
+  }
+  if (f.p.eps <= 0) {  // --eps 0: exactly the base tracer
+    out.L = shade_hit(w, r, h, 1, st);
+    return out;
+  }
+  linetree& lt = f.trees->get(h.prim, facepair_of(r.d));
+  if (!in_front(lt.fp, cam.origin)) {
+    out.L = shade_hit(w, r, h, 1, st);
+    return out;
+  }
+  float x4[4];
+  line_coords(lt.fp, r.o, r.d, x4);
+  for (int i = 0; i < 4; ++i) {
+    if (!(x4[i] >= lt.root.lo[i] && x4[i] <= lt.root.hi[i])) {  // rounding at the root's edge
+      out.L = shade_hit(w, r, h, 1, st);
+      return out;
+    }
+  }
+  lt_node* node = &lt.root;
+  const interpolant* ip = nullptr;
+  for (;;) {
+    if (lt_node* kids = node->kids.load(std::memory_order_acquire)) {
+      node = &kids[child_index(*node, x4)];
+      continue;
+    }
+    ip = node->interp.load(std::memory_order_acquire);
+    if (!ip) ip = publish(*node, build_interpolant(w, h.prim, lt.fp, *node, st, scratch));
+    if (!cell_accurate(*ip, f.p.eps) && node->depth < f.p.max_depth &&
+        cell_pixels(cam, lt.fp, *node) >= 4 * f.p.min_cell_pixels) {
+      lt_node* kids = subdivide(*node);
+      node = &kids[child_index(*node, x4)];
+      continue;
+    }
+    break;
+  }
+  if (ip->reason == cell_reason::valid) {
+    float t[4], wts[16];
+    for (int i = 0; i < 4; ++i) t[i] = std::clamp((x4[i] - node->lo[i]) / (node->hi[i] - node->lo[i]), 0.0f, 1.0f);
+    corner_weights(t, wts);
+    glm::vec3 La;
+    bool ok = ip->textured ? textured_radiance(w, h.prim, *ip, wts, f.p.eps, La)
+                           : within(La = interpolate(ip->rad, wts), ip->err, f.p.eps);
+    if (ok) {
+      out.L = La;
+      out.path = pixel_path::interp;
+      out.reason = pixel_reason::interpolated;
+      return out;
+    }
+    out.reason = pixel_reason::nonlinear;
+  } else {
+    out.reason = pixel_reason(int(ip->reason));
+  }
+  out.L = shade_hit(w, r, h, 1, st);
+  return out;
+}
+
+}  // namespace epsray

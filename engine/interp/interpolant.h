@@ -1,0 +1,46 @@
+// A radiance interpolant (section 4.3): the radiance of the 16 extremal lines of a 4D cell,
+// interpolated quadrilinearly, with the error bound the predicate proved for the cell.
+#pragma once
+#include <cstdint>
+#include <glm/glm.hpp>
+
+namespace epsray {
+
+// Why a cell may not be interpolated; the colours of the error-coded image (--reasons).
+enum class cell_reason : std::uint8_t {
+  valid,          // grey-blue: interpolated
+  discontinuity,  // green: ray trees differ, TIR, a light's side or a sheet changes
+  missed,         // yellow: some line of the cell misses the object
+  blocked,        // red: an occluder may lie in a shaft of the cell
+  nonlinear,      // magenta: the second-order bound exceeds epsilon
+};
+
+// Corner k of a cell: bit 0 picks a's upper end, bit 1 b's, bit 2 c's, bit 3 d's.
+struct interpolant {
+  cell_reason reason = cell_reason::valid;
+  bool textured = false;
+  glm::vec3 rad[16];       // radiance; textured: the part the texture does not multiply
+  glm::vec3 tex[16];       // textured: the factor the root's texture multiplies
+  glm::vec2 uv[16];        // textured: the root's texture coordinates
+  glm::vec3 err{0};        // proven bound of |f - interpolated f| for rad, per channel
+  glm::vec3 err_tex{0};    // ... for tex
+  glm::vec2 err_uv{0};     // ... for uv
+};
+
+// Quadrilinear weights of a point with cell-relative coordinates t (each in [0, 1]).
+inline void corner_weights(const float t[4], float wts[16]) {
+  for (int k = 0; k < 16; ++k) {
+    float w = 1;
+    for (int i = 0; i < 4; ++i) w *= (k >> i & 1) ? t[i] : 1 - t[i];
+    wts[k] = w;
+  }
+}
+
+template <class V>
+inline V interpolate(const V v[16], const float wts[16]) {
+  V s = v[0] * wts[0];
+  for (int k = 1; k < 16; ++k) s += v[k] * wts[k];
+  return s;
+}
+
+}  // namespace epsray

@@ -1,0 +1,31 @@
+#include "interp/line_space.h"
+
+#include <algorithm>
+
+namespace epsray {
+
+facepair make_facepair(const bounds& box, int index) {
+  facepair f;
+  f.axis = index / 2;
+  f.u = (f.axis + 1) % 3;
+  f.v = (f.axis + 2) % 3;
+  glm::vec3 ext = box.extent();
+  float size = std::max({ext.x, ext.y, ext.z});
+  // A quarter of the object's size between the box and each plane keeps the lines
+  // well conditioned; the absolute term covers points.
+  float margin = 0.25f * size + 1e-6f * (1 + glm::length(box.centre()));
+  float lo = box.lo[f.axis] - margin, hi = box.hi[f.axis] + margin;
+  bool positive = index % 2 == 0;
+  f.front = positive ? lo : hi;
+  f.back = positive ? hi : lo;
+  // A line with |d_u| <= |d_axis| moves at most (hi - lo) sideways between the planes.
+  float depth = hi - lo;
+  for (int k = 0; k < 2; ++k) {
+    int ax = k == 0 ? f.u : f.v;
+    f.lo[k] = f.lo[k + 2] = box.lo[ax] - depth;
+    f.hi[k] = f.hi[k + 2] = box.hi[ax] + depth;
+  }
+  return f;
+}
+
+}  // namespace epsray

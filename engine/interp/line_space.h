@@ -1,0 +1,60 @@
+// The 4D line parameterization of section 4.1: a line crossing an object's facepair is
+// named by its intercepts (a, b) with the front plane and (c, d) with the back plane.
+// Six facepairs per object, chosen by the ray's dominant axis and its sign, cover every
+// line through the object's box.
+#pragma once
+#include <glm/glm.hpp>
+
+#include "geom/bounds.h"
+
+namespace epsray {
+
+struct facepair {
+  int axis = 2;             // dominant axis of the rays it holds
+  int u = 0, v = 1;         // the two other axes: a, c along u; b, d along v
+  float front = 0, back = 0;  // axis coordinates of the planes (rays travel front -> back)
+  float lo[4] = {0, 0, 0, 0}, hi[4] = {0, 0, 0, 0};  // root cell: a, b, c, d ranges
+};
+
+// Index 0..5 of the facepair holding direction d: 2 * axis + (d[axis] < 0).
+inline int facepair_of(glm::vec3 d) {
+  glm::vec3 a = glm::abs(d);
+  int axis = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
+  return 2 * axis + (d[axis] < 0 ? 1 : 0);
+}
+
+// The facepair `index` of an object with bounds `box`: the box is pushed out along the
+// axis by a margin (so flat objects get two distinct planes) and widened sideways by the
+// slab's depth, so every line whose dominant axis is `axis` and which meets the box
+// crosses both faces inside the root cell.
+facepair make_facepair(const bounds& box, int index);
+
+// Intercepts of the line o + t d with the facepair's planes.
+inline void line_coords(const facepair& f, glm::vec3 o, glm::vec3 d, float abcd[4]) {
+  float tf = (f.front - o[f.axis]) / d[f.axis];
+  float tb = (f.back - o[f.axis]) / d[f.axis];
+  abcd[0] = o[f.u] + tf * d[f.u];
+  abcd[1] = o[f.v] + tf * d[f.v];
+  abcd[2] = o[f.u] + tb * d[f.u];
+  abcd[3] = o[f.v] + tb * d[f.v];
+}
+
+// The line through (a, b) on the front plane and (c, d) on the back plane.
+inline glm::vec3 front_point(const facepair& f, float a, float b) {
+  glm::vec3 p;
+  p[f.axis] = f.front, p[f.u] = a, p[f.v] = b;
+  return p;
+}
+inline glm::vec3 back_point(const facepair& f, float c, float d) {
+  glm::vec3 p;
+  p[f.axis] = f.back, p[f.u] = c, p[f.v] = d;
+  return p;
+}
+
+// Is the eye strictly in front of the front plane? Only then is an eye ray's first hit on
+// the object the same as its line's first hit after the front plane.
+inline bool in_front(const facepair& f, glm::vec3 eye) {
+  return f.back > f.front ? eye[f.axis] < f.front : eye[f.axis] > f.front;
+}
+
+}  // namespace epsray

@@ -1,0 +1,75 @@
+#include "interp/linetree.h"
+
+#include <functional>
+
+namespace epsray {
+
+lt_node::~lt_node() {
+  delete[] kids.load(std::memory_order_relaxed);
+  delete interp.load(std::memory_order_relaxed);
+}
+
+lt_node* subdivide(lt_node& n) {
+  lt_node* kids = n.kids.load(std::memory_order_acquire);
+  if (kids) return kids;
+  lt_node* made = new lt_node[16];
+  for (int k = 0; k < 16; ++k) {
+    for (int i = 0; i < 4; ++i) {
+      float mid = 0.5f * (n.lo[i] + n.hi[i]);
+      made[k].lo[i] = (k >> i & 1) ? mid : n.lo[i];
+      made[k].hi[i] = (k >> i & 1) ? n.hi[i] : mid;
+    }
+    made[k].depth = n.depth + 1;
+  }
+  if (n.kids.compare_exchange_strong(kids, made, std::memory_order_acq_rel)) return made;
+  delete[] made;  // lost the race: the winner's children are identical
+  return kids;
+}
+
+const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made) {
+  interpolant* expected = nullptr;
+  if (n.interp.compare_exchange_strong(expected, made.get(), std::memory_order_acq_rel)) return made.release();
+  return expected;
+}
+
+linetree_set::linetree_set(const std::vector<bounds>& prim_bounds)
+    : bounds_(prim_bounds), trees_(new std::array<std::atomic<linetree*>, 6>[prim_bounds.size()]),
+      count_(prim_bounds.size()) {
+  for (size_t i = 0; i < count_; ++i)
+    for (auto& t : trees_[i]) t.store(nullptr, std::memory_order_relaxed);
+}
+
+linetree_set::~linetree_set() {
+  for (size_t i = 0; i < count_; ++i)
+    for (auto& t : trees_[i]) delete t.load(std::memory_order_relaxed);
+}
+
+linetree& linetree_set::get(int prim, int fi) {
+  std::atomic<linetree*>& slot = trees_[size_t(prim)][size_t(fi)];
+  linetree* t = slot.load(std::memory_order_acquire);
+  if (t) return *t;
+  auto* made = new linetree;
+  made->fp = make_facepair(bounds_[size_t(prim)], fi);
+  for (int i = 0; i < 4; ++i) made->root.lo[i] = made->fp.lo[i], made->root.hi[i] = made->fp.hi[i];
+  if (slot.compare_exchange_strong(t, made, std::memory_order_acq_rel)) return *made;
+  delete made;
+  return *t;
+}
+
+size_t linetree_set::bytes() const {
+  size_t total = count_ * sizeof(std::array<std::atomic<linetree*>, 6>);
+  std::function<size_t(const lt_node&)> walk = [&](const lt_node& n) -> size_t {
+    size_t b = n.interp.load(std::memory_order_acquire) ? sizeof(interpolant) : 0;
+    if (const lt_node* k = n.kids.load(std::memory_order_acquire)) {
+      b += 16 * sizeof(lt_node);
+      for (int i = 0; i < 16; ++i) b += walk(k[i]);
+    }
+    return b;
+  };
+  for (size_t i = 0; i < count_; ++i)
+    for (const auto& t : trees_[i])
+      if (const linetree* lt = t.load(std::memory_order_acquire)) total += sizeof(linetree) + walk(lt->root);
+  return total;
+}
+
+}  // namespace epsray

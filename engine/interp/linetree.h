@@ -1,0 +1,58 @@
+// Linetrees (section 4.2): one lazily built 4D tree per object and facepair. Several
+// threads look up, build and subdivide the same tree at once without a lock: a thread
+// that finds a missing interpolant or missing children builds them privately and
+// publishes them with one compare-and-swap; a loser frees its copy and uses the winner's.
+// What gets built is a pure function of the cell (and the camera's cost model), so who
+// wins changes nothing observable.
+#pragma once
+#include <array>
+#include <atomic>
+#include <memory>
+#include <vector>
+
+#include "interp/interpolant.h"
+#include "interp/line_space.h"
+
+namespace epsray {
+
+struct lt_node {
+  float lo[4], hi[4];
+  int depth = 0;
+  std::atomic<lt_node*> kids{nullptr};              // 16 children, created together
+  std::atomic<interpolant*> interp{nullptr};
+  ~lt_node();
+};
+
+struct linetree {
+  facepair fp;
+  lt_node root;
+};
+
+// Index of the child of `n` holding the point (a, b, c, d): one interval test per axis.
+inline int child_index(const lt_node& n, const float x[4]) {
+  int k = 0;
+  for (int i = 0; i < 4; ++i)
+    if (x[i] >= 0.5f * (n.lo[i] + n.hi[i])) k |= 1 << i;
+  return k;
+}
+
+// Creates the 16 children of n (halving every axis) unless another thread already did.
+lt_node* subdivide(lt_node& n);
+// Publishes `made` as n's interpolant unless another thread did first; returns the winner.
+const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made);
+
+// The linetrees of every primitive, six facepairs each, created on first use.
+class linetree_set {
+ public:
+  explicit linetree_set(const std::vector<bounds>& prim_bounds);
+  ~linetree_set();
+  linetree& get(int prim, int facepair_index);
+  size_t bytes() const;  // nodes and interpolants held
+
+ private:
+  const std::vector<bounds>& bounds_;
+  std::unique_ptr<std::array<std::atomic<linetree*>, 6>[]> trees_;
+  size_t count_;
+};
+
+}  // namespace epsray

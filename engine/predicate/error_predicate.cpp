@@ -1,0 +1,516 @@
+#include "predicate/error_predicate.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geom/shape_build.h"
+#include "predicate/djet.h"
+#include "predicate/shaft.h"
+#include "shade/surface.h"
+#include "shade/whitted.h"
+
+namespace epsray {
+
+namespace {
+
+// 3-vectors of jets: points and directions of a whole family of rays at once.
+struct jv {
+  djet x, y, z;
+  djet& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
+  const djet& operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+};
+jv operator+(const jv& a, const jv& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+jv operator-(const jv& a, const jv& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+jv operator-(const jv& a) { return {-a.x, -a.y, -a.z}; }
+jv operator*(const jv& a, const djet& s) { return {a.x * s, a.y * s, a.z * s}; }
+jv operator*(const djet& s, const jv& a) { return a * s; }
+jv operator*(const jv& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+jv operator/(const jv& a, const djet& s) { return {a.x / s, a.y / s, a.z / s}; }
+djet dot(const jv& a, const jv& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+djet dot(const jv& a, glm::dvec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+jv cross(const jv& a, const jv& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+jv normalize(const jv& a) { return a / sqrt(dot(a, a)); }
+jv constant(glm::dvec3 p) { return {djet(p.x), djet(p.y), djet(p.z)}; }
+jv operator+(const jv& a, glm::dvec3 b) { return a + constant(b); }
+jv operator-(const jv& a, glm::dvec3 b) { return a - constant(b); }
+
+glm::dvec3 dv(glm::vec3 v) { return glm::dvec3(v); }
+
+// The float box holding a family of points, rounded outwards.
+bounds box_of(const jv& p) {
+  bounds b;
+  for (int i = 0; i < 3; ++i) {
+    b.lo[i] = std::nextafter(float(p[i].v.lo), -INFINITY);
+    b.hi[i] = std::nextafter(float(p[i].v.hi), INFINITY);
+  }
+  return b;
+}
+
+bool finite_box(const bounds& b) {
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(b.lo[i]) || !std::isfinite(b.hi[i])) return false;
+  return true;
+}
+
+bool positive(const djet& x) { return x.v.lo > 0; }
+bool negative(const djet& x) { return x.v.hi < 0; }
+
+// Can a segment leaving primitive q's surface (towards its facing side) meet q again?
+// Never for a plane; never for a convex solid left from the outside.
+bool cannot_reenter(shape_kind k, bool from_outside) {
+  if (k == shape_kind::triangle || k == shape_kind::polygon || k == shape_kind::disk) return true;
+  return (k == shape_kind::sphere || k == shape_kind::box) && from_outside;
+}
+
+struct surface_family {
+  djet t;
+  jv p, ng;            // hit points; outward geometric normals
+  bool from_outside = true;  // for spheres and boxes: the rays arrive from outside the solid
+};
+
+struct evaluator {
+  const world& w;
+  const ray_tree& tree;
+  cell_reason fail = cell_reason::valid;
+  double far;  // farther than any scene point from any ray origin we see
+
+  bool reject(cell_reason r) {
+    if (fail == cell_reason::valid) fail = r;
+    return false;
+  }
+
+  // No primitive other than skip_a / skip_b may meet a segment from box a to box b.
+  bool shaft_clear(const bounds& a, const bounds& b, int skip_a, int skip_b) {
+    if (!finite_box(a) || !finite_box(b)) return reject(cell_reason::blocked);
+    shaft s = make_shaft(a, b);
+    bool hit = for_each_in_shaft(w.tree, w.prim_bounds, s, [&](int id) { return id != skip_a && id != skip_b; });
+    return hit ? reject(cell_reason::blocked) : true;
+  }
+
+  // The family o + t d hits primitive `prim` at its first surface with t > 0, for every ray
+  // of the cell (else the cell has a gap or changes sheet).
+  bool intersect(int prim, const jv& o, const jv& d, surface_family& s) {
+    const shape& sh = w.shapes[size_t(prim)];
+    switch (sh.kind) {
+      case shape_kind::sphere: return hit_sphere(sh.sphere, o, d, s);
+      case shape_kind::triangle: return hit_plane(prim, o, d, s);
+      case shape_kind::polygon: return hit_plane(prim, o, d, s);
+      case shape_kind::disk: return hit_plane(prim, o, d, s);
+      case shape_kind::cone: return hit_cone(sh.cone, o, d, s);
+      case shape_kind::box: return hit_box(sh.box, o, d, s);
+    }
+    return reject(cell_reason::missed);
+  }
+
+  bool hit_sphere(const sphere_geom& g, const jv& o, const jv& d, surface_family& s) {
+    jv oc = o - dv(g.c);
+    djet b = dot(oc, d);
+    djet c = dot(oc, oc) - double(g.r) * double(g.r);
+    djet disc = sqr(b) - c;
+    if (!positive(disc)) return reject(cell_reason::missed);
+    djet sq = sqrt(disc);
+    djet t0 = -b - sq, t1 = -b + sq;
+    if (positive(t0)) s.t = t0, s.from_outside = true;
+    else if (t0.v.hi <= 0 && positive(t1)) s.t = t1, s.from_outside = false;
+    else return reject(cell_reason::discontinuity);
+    s.p = o + d * s.t;
+    s.ng = (s.p - dv(g.c)) * (1.0 / double(g.r));
+    return true;
+  }
+
+  bool hit_plane(int prim, const jv& o, const jv& d, surface_family& s) {
+    const primitive& pr = w.sc.prims[size_t(w.info[size_t(prim)].source)];
+    glm::dvec3 n, anchor;
+    if (pr.kind == prim_kind::disk) n = dv(pr.b), anchor = dv(pr.a);
+    else n = dv(polygon_normal(w.sc, pr)), anchor = dv(w.sc.vertices[size_t(pr.first)]);
+    djet dn = dot(d, n);
+    if (!(dn.v.lo > 0 || dn.v.hi < 0)) return reject(cell_reason::missed);
+    s.t = (glm::dot(n, anchor) - dot(o, n)) / dn;
+    if (!positive(s.t)) return reject(cell_reason::missed);
+    s.p = o + d * s.t;
+    s.ng = constant(n);
+    if (!inside_planar(pr, box_of(s.p), n)) return reject(cell_reason::missed);
+    return true;
+  }
+
+  // Is every point of the box (which lies around the primitive's plane) inside it?
+  bool inside_planar(const primitive& pr, const bounds& b, glm::dvec3 n) {
+    if (pr.kind == prim_kind::disk) {
+      // The farthest corner from the centre must be inside the rim.
+      glm::dvec3 far_pt;
+      for (int i = 0; i < 3; ++i)
+        far_pt[i] = std::fabs(double(b.lo[i]) - pr.a[i]) > std::fabs(double(b.hi[i]) - pr.a[i]) ? b.lo[i] : b.hi[i];
+      glm::dvec3 q = far_pt - dv(pr.a);
+      q -= glm::dot(q, n) * n;
+      return glm::dot(q, q) < double(pr.r0) * double(pr.r0) * (1 - 1e-6);
+    }
+    // Polygons: project on the plane's dominant axes; the projected box must lie inside,
+    // with no edge crossing it (even-odd rule at its centre decides in or out).
+    glm::dvec3 an = glm::abs(n);
+    int drop = an.x > an.y ? (an.x > an.z ? 0 : 2) : (an.y > an.z ? 1 : 2);
+    int u = (drop + 1) % 3, v = (drop + 2) % 3;
+    double u0 = b.lo[u], u1 = b.hi[u], v0 = b.lo[v], v1 = b.hi[v];
+    double pad = 1e-6 * (std::fabs(u0) + std::fabs(u1) + std::fabs(v0) + std::fabs(v1) + 1e-30);
+    u0 -= pad, u1 += pad, v0 -= pad, v1 += pad;
+    const vec3* vt = &w.sc.vertices[size_t(pr.first)];
+    bool in = false;
+    double cu = 0.5 * (u0 + u1), cv = 0.5 * (v0 + v1);
+    for (int i = 0, j = pr.count - 1; i < pr.count; j = i++) {
+      double au = vt[j][u], av = vt[j][v], bu = vt[i][u], bv = vt[i][v];
+      if (segment_meets_rect(au, av, bu, bv, u0, u1, v0, v1)) return false;
+      if ((bv > cv) != (av > cv) && cu < au + (cv - av) * (bu - au) / (bv - av)) in = !in;
+    }
+    return in;
+  }
+
+  static bool segment_meets_rect(double au, double av, double bu, double bv, double u0, double u1, double v0,
+                                 double v1) {
+    // Liang-Barsky clip of the segment against the rectangle.
+    double t0 = 0, t1 = 1, du = bu - au, dvv = bv - av;
+    auto clip = [&](double p, double q) {
+      if (p == 0) return q >= 0;
+      double r = q / p;
+      if (p < 0) {
+        if (r > t1) return false;
+        t0 = std::max(t0, r);
+      } else {
+        if (r < t0) return false;
+        t1 = std::min(t1, r);
+      }
+      return true;
+    };
+    return clip(-du, au - u0) && clip(du, u1 - au) && clip(-dvv, av - v0) && clip(dvv, v1 - av) && t0 <= t1;
+  }
+
+  bool hit_cone(const cone_geom& g, const jv& o, const jv& d, surface_family& s) {
+    glm::dvec3 axis = dv(g.axis);
+    double k = g.k, r0 = g.r0, h = g.h;
+    jv q = o - dv(g.base);
+    djet qa = dot(q, axis), da = dot(d, axis);
+    jv qp = q - constant(axis) * qa, dp = d - constant(axis) * da;
+    djet R = qa * k + r0, S = da * k;
+    djet A = dot(dp, dp) - sqr(S);
+    djet B = 2.0 * (dot(qp, dp) - R * S);
+    djet C = dot(qp, qp) - sqr(R);
+    if (!(A.v.lo > 0 || A.v.hi < 0)) return reject(cell_reason::discontinuity);
+    djet disc = sqr(B) - 4.0 * (A * C);
+    if (!positive(disc)) return reject(cell_reason::missed);
+    djet sq = sqrt(disc);
+    djet ta = (-B - sq) / (2.0 * A), tb = (-B + sq) / (2.0 * A);
+    if (A.v.hi < 0) std::swap(ta, tb);  // ta is the nearer root
+    auto valid = [&](const djet& t) {
+      djet z = qa + t * da;
+      return positive(t) && z.v.lo > 0 && z.v.hi < h;
+    };
+    auto invalid = [&](const djet& t) {
+      djet z = qa + t * da;
+      return t.v.hi <= 0 || z.v.hi < 0 || z.v.lo > h;
+    };
+    if (valid(ta)) s.t = ta;
+    else if (invalid(ta) && valid(tb)) s.t = tb;
+    else return reject(cell_reason::missed);
+    s.p = o + d * s.t;
+    jv rel = s.p - dv(g.base);
+    jv radial = rel - constant(axis) * dot(rel, axis);
+    jv n = normalize(radial) - constant(axis) * k;
+    s.ng = normalize(n);  // the caller flips it for negative radii
+    return true;
+  }
+
+  bool hit_box(const box_geom& g, const jv& o, const jv& d, surface_family& s) {
+    const glm::vec3* ax[3] = {&g.ax0, &g.ax1, &g.ax2};
+    djet nearv[3], farv[3], dl[3];
+    jv q = o - dv(g.c);
+    for (int i = 0; i < 3; ++i) {
+      djet ol = dot(q, dv(*ax[i]));
+      dl[i] = dot(d, dv(*ax[i]));
+      if (!(dl[i].v.lo > 0 || dl[i].v.hi < 0)) return reject(cell_reason::discontinuity);
+      djet ta = (-double(g.half[i]) - ol) / dl[i], tb = (double(g.half[i]) - ol) / dl[i];
+      if (dl[i].v.lo > 0) nearv[i] = ta, farv[i] = tb;
+      else nearv[i] = tb, farv[i] = ta;
+    }
+    auto unique_max = [](const djet* t, int& k) {
+      for (k = 0; k < 3; ++k) {
+        bool ok = true;
+        for (int j = 0; j < 3; ++j)
+          if (j != k && !(t[k].v.lo > t[j].v.hi)) ok = false;
+        if (ok) return true;
+      }
+      return false;
+    };
+    auto unique_min = [](const djet* t, int& k) {
+      for (k = 0; k < 3; ++k) {
+        bool ok = true;
+        for (int j = 0; j < 3; ++j)
+          if (j != k && !(t[k].v.hi < t[j].v.lo)) ok = false;
+        if (ok) return true;
+      }
+      return false;
+    };
+    double max_near_hi = std::max({nearv[0].v.hi, nearv[1].v.hi, nearv[2].v.hi});
+    double min_far_lo = std::min({farv[0].v.lo, farv[1].v.lo, farv[2].v.lo});
+    if (!(max_near_hi < min_far_lo)) return reject(cell_reason::missed);
+    int k;
+    if (unique_max(nearv, k) && positive(nearv[k])) {
+      s.t = nearv[k], s.from_outside = true;
+      s.ng = constant(dv(*ax[k]) * (dl[k].v.lo > 0 ? -1.0 : 1.0));
+    } else if (max_near_hi < 0 && unique_min(farv, k) && positive(farv[k])) {
+      s.t = farv[k], s.from_outside = false;
+      s.ng = constant(dv(*ax[k]) * (dl[k].v.lo > 0 ? 1.0 : -1.0));
+    } else {
+      return reject(cell_reason::discontinuity);
+    }
+    s.p = o + d * s.t;
+    return true;
+  }
+
+  // Interpolated patch normals: the point family must stay inside one fan triangle.
+  bool patch_normal(const primitive& pr, const jv& p, jv& ns) {
+    const vec3* v = &w.sc.vertices[size_t(pr.first)];
+    const vec3* n = &w.sc.normals[size_t(pr.first)];
+    glm::dvec3 pn = dv(polygon_normal(w.sc, pr));
+    for (int i = 1; i + 1 < pr.count; ++i) {
+      glm::dvec3 a = dv(v[0]), e1 = dv(v[i]) - a, e2 = dv(v[i + 1]) - a;
+      glm::dvec3 c1 = glm::cross(e2, pn), c2 = glm::cross(pn, e1);
+      glm::dvec3 b1 = c1 / glm::dot(e1, c1), b2 = c2 / glm::dot(e2, c2);
+      jv rel = p - a;
+      djet u = dot(rel, b1), vv = dot(rel, b2);
+      djet w0 = 1.0 - u - vv;
+      if (u.v.lo >= 0 && vv.v.lo >= 0 && w0.v.lo >= 0) {
+        jv m = constant(dv(n[0])) * w0 + constant(dv(n[i])) * u + constant(dv(n[i + 1])) * vv;
+        ns = normalize(m);
+        return true;
+      }
+      bool outside = u.v.hi < 0 || vv.v.hi < 0 || w0.v.hi < 0;
+      if (!outside) return reject(cell_reason::discontinuity);  // straddles a fan edge: a kink
+    }
+    return reject(cell_reason::discontinuity);
+  }
+
+  // Proves that every shadow segment from the box `from` to light point `lp` meets the convex
+  // primitive `blocker`: the shadow volume of a convex solid seen from a point is convex, so
+  // its containing the 8 corners of `from` suffices.
+  bool blocked_everywhere(int blocker, const bounds& from, glm::vec3 lp) {
+    const shape& sh = w.shapes[size_t(blocker)];
+    for (int c = 0; c < 8; ++c) {
+      glm::dvec3 o{(c & 1) ? from.hi.x : from.lo.x, (c & 2) ? from.hi.y : from.lo.y, (c & 4) ? from.hi.z : from.lo.z};
+      glm::dvec3 seg = dv(lp) - o;
+      if (!segment_blocked(sh, o, seg)) return false;
+    }
+    return true;
+  }
+
+  static bool segment_blocked(const shape& sh, glm::dvec3 o, glm::dvec3 seg) {
+    const double m = 1e-5;  // margin: the float tracer must agree on the corners too
+    switch (sh.kind) {
+      case shape_kind::sphere: {
+        glm::dvec3 c = dv(sh.sphere.c);
+        double r = std::fabs(double(sh.sphere.r)) * (1 - m);
+        double t = std::clamp(glm::dot(c - o, seg) / glm::dot(seg, seg), 0.0, 1.0);
+        glm::dvec3 q = o + t * seg - c;
+        // The segment must cross the surface: one end outside (the light), the closest
+        // point well inside.
+        return glm::dot(q, q) < r * r && glm::dot(o - c, o - c) > r * r * (1 + 4 * m) &&
+               glm::dot(o + seg - c, o + seg - c) > r * r * (1 + 4 * m);
+      }
+      case shape_kind::box: {
+        double t0 = 0, t1 = 1;
+        const glm::vec3* ax[3] = {&sh.box.ax0, &sh.box.ax1, &sh.box.ax2};
+        for (int i = 0; i < 3; ++i) {
+          double ol = glm::dot(o - dv(sh.box.c), dv(*ax[i])), dl = glm::dot(seg, dv(*ax[i]));
+          double hh = double(sh.box.half[i]) * (1 - m);
+          if (dl == 0) {
+            if (std::fabs(ol) >= hh) return false;
+            continue;
+          }
+          double a = (-hh - ol) / dl, b = (hh - ol) / dl;
+          if (a > b) std::swap(a, b);
+          t0 = std::max(t0, a), t1 = std::min(t1, b);
+        }
+        return t0 < t1 && t0 > 0 && t1 < 1;  // enters and leaves strictly inside the segment
+      }
+      case shape_kind::triangle: {
+        glm::dvec3 v0 = dv(sh.tri.v0), e1 = dv(sh.tri.e1), e2 = dv(sh.tri.e2);
+        glm::dvec3 p = glm::cross(seg, e2);
+        double det = glm::dot(e1, p);
+        if (det == 0) return false;
+        glm::dvec3 s = o - v0;
+        double u = glm::dot(s, p) / det;
+        glm::dvec3 q = glm::cross(s, e1);
+        double v = glm::dot(seg, q) / det, t = glm::dot(e2, q) / det;
+        return u > m && v > m && u + v < 1 - m && t > m && t < 1 - m;
+      }
+      case shape_kind::disk: {
+        glm::dvec3 n = dv(sh.disk.n), c = dv(sh.disk.c);
+        double dn = glm::dot(n, seg);
+        if (dn == 0) return false;
+        double t = glm::dot(c - o, n) / dn;
+        glm::dvec3 q = o + t * seg - c;
+        return t > m && t < 1 - m && glm::dot(q, q) < double(sh.disk.r2) * (1 - 2 * m);
+      }
+      default: return false;  // open cones and concave polygons: no convexity argument
+    }
+  }
+
+  // Radiance of the family of rays o + t d (t > 0) whose ray-tree node is `node`; `from` is
+  // the primitive they leave (-1 for the lines of the cell) and whether it may be ignored
+  // in their shaft. Root extras: the texture factor and uv for textured roots.
+  bool radiance(int node, const jv& o, const jv& d, int depth, int from, bool from_ignorable, djet L[3],
+                djet* tex_factor, djet* uv) {
+    const ray_tree_node& n = tree.nodes[size_t(node)];
+    if (n.prim < 0) {  // a miss: nothing may lie anywhere along any ray of the family
+      bounds a = box_of(o);
+      jv end = o + d * djet(far);
+      if (!shaft_clear(a, box_of(end), from_ignorable ? from : -1, -1)) return false;
+      for (int c = 0; c < 3; ++c) L[c] = djet(double(w.background[c]));
+      return true;
+    }
+    const int prim = w.shape_of[size_t(n.prim)];
+    surface_family sf;
+    if (!intersect(prim, o, d, sf)) return false;
+    if (from >= 0) {  // a secondary segment: nothing but its ends in its shaft
+      if (!shaft_clear(box_of(o), box_of(sf.p), prim, from_ignorable ? from : -1)) return false;
+    }
+    const shape_kind kind = w.shapes[size_t(prim)].kind;
+    const primitive& pr = w.sc.prims[size_t(n.prim)];
+    if (kind == shape_kind::cone && (pr.r0 < 0 || pr.r1 < 0)) sf.ng = -sf.ng;
+    jv ns = sf.ng;
+    if (pr.kind == prim_kind::patch && !patch_normal(pr, sf.p, ns)) return false;
+    djet dng = dot(sf.ng, d);
+    bool entering = n.entering != 0;
+    if (entering ? !negative(dng) : !positive(dng)) return reject(cell_reason::discontinuity);
+    jv nf = entering ? ns : -ns;
+
+    const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
+    const bool split = tex_factor != nullptr;
+    if (m.texture >= 0 && !split) return reject(cell_reason::nonlinear);  // textures seen in reflections
+    if (split) {
+      glm::vec3 o3, eu, ev;
+      glm::vec3 pmid{float(mid(sf.p.x.v)), float(mid(sf.p.y.v)), float(mid(sf.p.z.v))};
+      if (!planar_uv_frame(w, prim, pmid, o3, eu, ev)) return reject(cell_reason::nonlinear);
+      jv rel = sf.p - dv(o3);
+      uv[0] = dot(rel, dv(eu)), uv[1] = dot(rel, dv(ev));
+    }
+    glm::dvec3 kdc = dv(m.kd * m.color);
+    djet acc[3], tf[3];
+    for (int c = 0; c < 3; ++c) {
+      acc[c] = djet(split ? 0.0 : double(w.ambient[c]) * kdc[c]);
+      tf[c] = djet(double(w.ambient[c]) * kdc[c]);
+    }
+    const double delta = w.delta;
+    jv above = sf.p + nf * delta;
+    bounds above_box = box_of(above);
+    jv view = -d;
+    for (size_t j = 0; j < w.light_pos.size(); ++j) {
+      std::int32_t status = tree.lights[n.lights + j];
+      jv to_light = constant(dv(w.light_pos[j])) - sf.p;
+      jv lj = normalize(to_light);
+      djet ndl = dot(nf, lj);
+      if (status == light_behind) {
+        if (!(ndl.v.hi <= 0)) return reject(cell_reason::discontinuity);
+        continue;
+      }
+      if (status >= 0) {  // blocked at every corner: prove it for every ray
+        if (!blocked_everywhere(w.shape_of[size_t(status)], above_box, w.light_pos[j]))
+          return reject(cell_reason::blocked);
+        continue;
+      }
+      if (!positive(ndl)) return reject(cell_reason::discontinuity);
+      bounds lbox{w.light_pos[j], w.light_pos[j]};
+      if (!shaft_clear(above_box, lbox, cannot_reenter(kind, sf.from_outside) ? prim : -1, -1)) return false;
+      djet spec(0.0);
+      if (m.shine > 0 && m.ks > 0) {
+        djet nh = dot(nf, normalize(lj + view));
+        if (!positive(nh)) return reject(cell_reason::nonlinear);
+        spec = pow(nh, double(m.shine));
+      }
+      glm::dvec3 I = dv(w.light_power[j]);
+      for (int c = 0; c < 3; ++c) {
+        djet diffuse = ndl * (I[c] * kdc[c]);
+        if (split) tf[c] = tf[c] + diffuse;
+        else acc[c] = acc[c] + diffuse;
+        acc[c] = acc[c] + spec * (I[c] * double(m.ks));
+      }
+    }
+    const bool leave_ok = cannot_reenter(kind, sf.from_outside);
+    if (n.reflect >= 0) {
+      jv rd = normalize(d - nf * (2.0 * dot(d, nf)));
+      djet Lr[3];
+      if (!radiance(n.reflect, above, rd, depth + 1, prim, leave_ok, Lr, nullptr, nullptr)) return false;
+      for (int c = 0; c < 3; ++c) acc[c] = acc[c] + Lr[c] * double(m.ks);
+    }
+    if (n.refract >= 0) {
+      double eta = entering ? 1.0 / double(m.ior) : double(m.ior);
+      djet ci = dot(view, nf);
+      djet k = 1.0 - eta * eta * (1.0 - sqr(ci));
+      djet Lt[3];
+      if (n.tir) {
+        if (!(k.v.hi < 0)) return reject(cell_reason::discontinuity);
+        jv rd = normalize(d - nf * (2.0 * dot(d, nf)));
+        if (!radiance(n.refract, above, rd, depth + 1, prim, leave_ok, Lt, nullptr, nullptr)) return false;
+      } else {
+        if (!positive(k)) return reject(cell_reason::discontinuity);
+        jv td = normalize(d * eta + nf * (ci * eta - sqrt(k)));
+        jv below = sf.p - nf * delta;
+        // A refracted segment passes through a plane; inside a sphere or box it meets the
+        // solid again only at its target, the exit point.
+        const ray_tree_node& child = tree.nodes[size_t(n.refract)];
+        bool planar = kind == shape_kind::triangle || kind == shape_kind::polygon || kind == shape_kind::disk;
+        bool exits_self = child.prim >= 0 && w.shape_of[size_t(child.prim)] == prim &&
+                          (kind == shape_kind::sphere || kind == shape_kind::box);
+        bool through_ok = planar || exits_self;
+        if (!radiance(n.refract, below, td, depth + 1, prim, through_ok, Lt, nullptr, nullptr)) return false;
+      }
+      for (int c = 0; c < 3; ++c) acc[c] = acc[c] + Lt[c] * double(m.t);
+    }
+    for (int c = 0; c < 3; ++c) {
+      L[c] = acc[c];
+      if (split) tex_factor[c] = tf[c];
+    }
+    return true;
+  }
+};
+
+}  // namespace
+
+cell_bound bound_cell(const cell_query& q) {
+  const world& w = *q.w;
+  const facepair& fp = *q.fp;
+  evaluator ev{w, *q.tree, cell_reason::valid, 0};
+  glm::dvec3 ext = dv(w.box.extent());
+  double scene = glm::length(ext);
+  // Lines start on the facepair's front plane, within a few object sizes of the scene.
+  double reach = 0;
+  for (int i = 0; i < 4; ++i) reach = std::max({reach, std::fabs(double(fp.lo[i])), std::fabs(double(fp.hi[i]))});
+  ev.far = 4 * (scene + reach + glm::length(dv(w.box.centre())) + std::fabs(double(fp.front)) + 1);
+
+  jv o, p1;
+  djet a = djet_variable(0, q.lo[0], q.hi[0]), b = djet_variable(1, q.lo[1], q.hi[1]);
+  djet c = djet_variable(2, q.lo[2], q.hi[2]), d = djet_variable(3, q.lo[3], q.hi[3]);
+  o[fp.axis] = djet(double(fp.front)), o[fp.u] = a, o[fp.v] = b;
+  p1[fp.axis] = djet(double(fp.back)), p1[fp.u] = c, p1[fp.v] = d;
+  jv dir = normalize(p1 - o);
+
+  djet L[3], tf[3], uv[2];
+  cell_bound out;
+  if (!ev.radiance(0, o, dir, 1, -1, false, L, q.textured ? tf : nullptr, q.textured ? uv : nullptr)) {
+    out.reason = ev.fail == cell_reason::valid ? cell_reason::nonlinear : ev.fail;
+    return out;
+  }
+  double h[4];
+  for (int i = 0; i < 4; ++i) h[i] = double(q.hi[i]) - double(q.lo[i]);
+  for (int ch = 0; ch < 3; ++ch) {
+    out.err[ch] = float(interpolation_error(L[ch], h));
+    if (q.textured) out.err_tex[ch] = float(interpolation_error(tf[ch], h));
+  }
+  if (q.textured)
+    for (int k = 0; k < 2; ++k) out.err_uv[k] = float(interpolation_error(uv[k], h));
+  auto finite3 = [](glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!finite3(out.err) || !finite3(out.err_tex) || !std::isfinite(out.err_uv.x) || !std::isfinite(out.err_uv.y))
+    out.reason = cell_reason::nonlinear;
+  return out;
+}
+
+}  // namespace epsray
