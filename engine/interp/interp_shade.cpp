@@ -122,6 +122,30 @@ bool textured_radiance(const world& w, int prim, const interpolant& ip, const fl
   return within(La, E, eps);
 }
 
+// Is the eye ray's first hit on the primitive the first hit of its line after the front
+// plane (the one the interpolant holds)? A line meets a plane once and a convex solid in
+// one segment, so for those it is whenever the eye is outside the solid; an open cone can
+// be met twice, so there the eye must be in front of the front plane.
+bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye) {
+  switch (s.kind) {
+    case shape_kind::triangle:
+    case shape_kind::polygon:
+    case shape_kind::disk: return true;
+    case shape_kind::sphere: {
+      glm::vec3 q = eye - s.sphere.c;
+      return glm::dot(q, q) > s.sphere.r * s.sphere.r * 1.0001f;
+    }
+    case shape_kind::box: {
+      glm::vec3 q = eye - s.box.c;
+      return std::fabs(glm::dot(q, s.box.ax0)) > s.box.half.x * 1.0001f ||
+             std::fabs(glm::dot(q, s.box.ax1)) > s.box.half.y * 1.0001f ||
+             std::fabs(glm::dot(q, s.box.ax2)) > s.box.half.z * 1.0001f;
+    }
+    case shape_kind::cone: return in_front(fp, eye);
+  }
+  return false;
+}
+
 }  // namespace
 
 glm::vec3 reason_colour(pixel_reason r) {
@@ -152,7 +176,7 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
     return out;
   }
   linetree& lt = f.trees->get(h.prim, facepair_of(r.d));
-  if (!in_front(lt.fp, cam.origin)) {
+  if (!same_first_hit(w.shapes[size_t(h.prim)], lt.fp, cam.origin)) {
     out.L = shade_hit(w, r, h, 1, st);
     return out;
   }

@@ -305,8 +305,9 @@ inline interval& interval::operator/=(const interval& b) noexcept { return *this
 // x^2, tight: [0, max] when x contains 0.
 inline interval sqr(const interval& a) noexcept {
   using namespace ivl_detail;
-  if (a.lo >= 0) return {mul_dn(a.lo, a.lo), mul_up(a.hi, a.hi)};
-  if (a.hi <= 0) return {mul_dn(a.hi, a.hi), mul_up(a.lo, a.lo)};
+  // (max with 0: an underflowing square rounds down to -denorm_min)
+  if (a.lo >= 0) return {std::max(0.0, mul_dn(a.lo, a.lo)), mul_up(a.hi, a.hi)};
+  if (a.hi <= 0) return {std::max(0.0, mul_dn(a.hi, a.hi)), mul_up(a.lo, a.lo)};
   return {0.0, mul_up(std::max(-a.lo, a.hi), std::max(-a.lo, a.hi))};
 }
 

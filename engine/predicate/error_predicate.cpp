@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "geom/shape_build.h"
 #include "predicate/djet.h"
@@ -13,6 +15,15 @@ namespace epsray {
 
 namespace {
 
+// Affine forms: interval bounds of these expressions over wide cells were 1000x too loose.
+using djet = djet_t<affine>;
+
+djet djet_variable(int i, double l, double h) {
+  djet j(affine_variable(i, l, h));
+  j.d[i] = affine(1.0);
+  return j;
+}
+
 // 3-vectors of jets: points and directions of a whole family of rays at once.
 struct jv {
   djet x, y, z;
@@ -23,17 +34,12 @@ jv operator+(const jv& a, const jv& b) { return {a.x + b.x, a.y + b.y, a.z + b.z
 jv operator-(const jv& a, const jv& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 jv operator-(const jv& a) { return {-a.x, -a.y, -a.z}; }
 jv operator*(const jv& a, const djet& s) { return {a.x * s, a.y * s, a.z * s}; }
-jv operator*(const djet& s, const jv& a) { return a * s; }
 jv operator*(const jv& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
 jv operator/(const jv& a, const djet& s) { return {a.x / s, a.y / s, a.z / s}; }
 djet dot(const jv& a, const jv& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 djet dot(const jv& a, glm::dvec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-jv cross(const jv& a, const jv& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
 jv normalize(const jv& a) { return a / sqrt(dot(a, a)); }
 jv constant(glm::dvec3 p) { return {djet(p.x), djet(p.y), djet(p.z)}; }
-jv operator+(const jv& a, glm::dvec3 b) { return a + constant(b); }
 jv operator-(const jv& a, glm::dvec3 b) { return a - constant(b); }
 
 glm::dvec3 dv(glm::vec3 v) { return glm::dvec3(v); }
@@ -42,8 +48,8 @@ glm::dvec3 dv(glm::vec3 v) { return glm::dvec3(v); }
 bounds box_of(const jv& p) {
   bounds b;
   for (int i = 0; i < 3; ++i) {
-    b.lo[i] = std::nextafter(float(p[i].v.lo), -INFINITY);
-    b.hi[i] = std::nextafter(float(p[i].v.hi), INFINITY);
+    b.lo[i] = std::nextafter(float(lo(p[i].v)), -INFINITY);
+    b.hi[i] = std::nextafter(float(hi(p[i].v)), INFINITY);
   }
   return b;
 }
@@ -54,8 +60,8 @@ bool finite_box(const bounds& b) {
   return true;
 }
 
-bool positive(const djet& x) { return x.v.lo > 0; }
-bool negative(const djet& x) { return x.v.hi < 0; }
+bool positive(const djet& x) { return lo(x.v) > 0; }
+bool negative(const djet& x) { return hi(x.v) < 0; }
 
 // Can a segment leaving primitive q's surface (towards its facing side) meet q again?
 // Never for a plane; never for a convex solid left from the outside.
@@ -76,14 +82,18 @@ struct evaluator {
   cell_reason fail = cell_reason::valid;
   double far;  // farther than any scene point from any ray origin we see
 
-  bool reject(cell_reason r) {
+  bool reject(cell_reason r, int line = __builtin_LINE()) {
+    if (getenv("EPSRAY_DEBUG_PREDICATE")) fprintf(stderr, "reject %d at line %d\n", int(r), line);
     if (fail == cell_reason::valid) fail = r;
     return false;
   }
 
   // No primitive other than skip_a / skip_b may meet a segment from box a to box b.
   bool shaft_clear(const bounds& a, const bounds& b, int skip_a, int skip_b) {
-    if (!finite_box(a) || !finite_box(b)) return reject(cell_reason::blocked);
+    if (!finite_box(a) || !finite_box(b)) {
+      if (getenv("EPSRAY_DEBUG_PREDICATE")) fprintf(stderr, "a %g %g %g .. %g %g %g b %g %g %g .. %g %g %g\n", a.lo.x, a.lo.y, a.lo.z, a.hi.x, a.hi.y, a.hi.z, b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
+      return reject(cell_reason::blocked);
+    }
     shaft s = make_shaft(a, b);
     bool hit = for_each_in_shaft(w.tree, w.prim_bounds, s, [&](int id) { return id != skip_a && id != skip_b; });
     return hit ? reject(cell_reason::blocked) : true;
@@ -113,7 +123,7 @@ struct evaluator {
     djet sq = sqrt(disc);
     djet t0 = -b - sq, t1 = -b + sq;
     if (positive(t0)) s.t = t0, s.from_outside = true;
-    else if (t0.v.hi <= 0 && positive(t1)) s.t = t1, s.from_outside = false;
+    else if (hi(t0.v) <= 0 && positive(t1)) s.t = t1, s.from_outside = false;
     else return reject(cell_reason::discontinuity);
     s.p = o + d * s.t;
     s.ng = (s.p - dv(g.c)) * (1.0 / double(g.r));
@@ -126,7 +136,7 @@ struct evaluator {
     if (pr.kind == prim_kind::disk) n = dv(pr.b), anchor = dv(pr.a);
     else n = dv(polygon_normal(w.sc, pr)), anchor = dv(w.sc.vertices[size_t(pr.first)]);
     djet dn = dot(d, n);
-    if (!(dn.v.lo > 0 || dn.v.hi < 0)) return reject(cell_reason::missed);
+    if (!(lo(dn.v) > 0 || hi(dn.v) < 0)) return reject(cell_reason::missed);
     s.t = (glm::dot(n, anchor) - dot(o, n)) / dn;
     if (!positive(s.t)) return reject(cell_reason::missed);
     s.p = o + d * s.t;
@@ -194,28 +204,32 @@ struct evaluator {
     djet A = dot(dp, dp) - sqr(S);
     djet B = 2.0 * (dot(qp, dp) - R * S);
     djet C = dot(qp, qp) - sqr(R);
-    if (!(A.v.lo > 0 || A.v.hi < 0)) return reject(cell_reason::discontinuity);
+    if (!(lo(A.v) > 0 || hi(A.v) < 0)) return reject(cell_reason::discontinuity);
     djet disc = sqr(B) - 4.0 * (A * C);
     if (!positive(disc)) return reject(cell_reason::missed);
     djet sq = sqrt(disc);
     djet ta = (-B - sq) / (2.0 * A), tb = (-B + sq) / (2.0 * A);
-    if (A.v.hi < 0) std::swap(ta, tb);  // ta is the nearer root
+    if (hi(A.v) < 0) std::swap(ta, tb);  // ta is the nearer root
     auto valid = [&](const djet& t) {
       djet z = qa + t * da;
-      return positive(t) && z.v.lo > 0 && z.v.hi < h;
+      return positive(t) && lo(z.v) > 0 && hi(z.v) < h;
     };
     auto invalid = [&](const djet& t) {
       djet z = qa + t * da;
-      return t.v.hi <= 0 || z.v.hi < 0 || z.v.lo > h;
+      return hi(t.v) <= 0 || hi(z.v) < 0 || lo(z.v) > h;
     };
     if (valid(ta)) s.t = ta;
     else if (invalid(ta) && valid(tb)) s.t = tb;
     else return reject(cell_reason::missed);
     s.p = o + d * s.t;
+    // On the surface the radial vector's length is the radius r0 + k z, and the unit radial
+    // minus k * axis has length sqrt(1 + k^2): exact identities, no interval normalize
+    // (which would lose |n| = 1 over a wide cell).
     jv rel = s.p - dv(g.base);
-    jv radial = rel - constant(axis) * dot(rel, axis);
-    jv n = normalize(radial) - constant(axis) * k;
-    s.ng = normalize(n);  // the caller flips it for negative radii
+    djet z = dot(rel, axis);
+    jv radial = rel - constant(axis) * z;
+    jv n = radial / (z * k + r0) - constant(axis) * k;
+    s.ng = n * (1.0 / std::sqrt(1.0 + k * k));  // the caller flips it for negative radii
     return true;
   }
 
@@ -226,16 +240,16 @@ struct evaluator {
     for (int i = 0; i < 3; ++i) {
       djet ol = dot(q, dv(*ax[i]));
       dl[i] = dot(d, dv(*ax[i]));
-      if (!(dl[i].v.lo > 0 || dl[i].v.hi < 0)) return reject(cell_reason::discontinuity);
+      if (!(lo(dl[i].v) > 0 || hi(dl[i].v) < 0)) return reject(cell_reason::discontinuity);
       djet ta = (-double(g.half[i]) - ol) / dl[i], tb = (double(g.half[i]) - ol) / dl[i];
-      if (dl[i].v.lo > 0) nearv[i] = ta, farv[i] = tb;
+      if (lo(dl[i].v) > 0) nearv[i] = ta, farv[i] = tb;
       else nearv[i] = tb, farv[i] = ta;
     }
     auto unique_max = [](const djet* t, int& k) {
       for (k = 0; k < 3; ++k) {
         bool ok = true;
         for (int j = 0; j < 3; ++j)
-          if (j != k && !(t[k].v.lo > t[j].v.hi)) ok = false;
+          if (j != k && !(lo(t[k].v) > hi(t[j].v))) ok = false;
         if (ok) return true;
       }
       return false;
@@ -244,21 +258,21 @@ struct evaluator {
       for (k = 0; k < 3; ++k) {
         bool ok = true;
         for (int j = 0; j < 3; ++j)
-          if (j != k && !(t[k].v.hi < t[j].v.lo)) ok = false;
+          if (j != k && !(hi(t[k].v) < lo(t[j].v))) ok = false;
         if (ok) return true;
       }
       return false;
     };
-    double max_near_hi = std::max({nearv[0].v.hi, nearv[1].v.hi, nearv[2].v.hi});
-    double min_far_lo = std::min({farv[0].v.lo, farv[1].v.lo, farv[2].v.lo});
+    double max_near_hi = std::max({hi(nearv[0].v), hi(nearv[1].v), hi(nearv[2].v)});
+    double min_far_lo = std::min({lo(farv[0].v), lo(farv[1].v), lo(farv[2].v)});
     if (!(max_near_hi < min_far_lo)) return reject(cell_reason::missed);
     int k;
     if (unique_max(nearv, k) && positive(nearv[k])) {
       s.t = nearv[k], s.from_outside = true;
-      s.ng = constant(dv(*ax[k]) * (dl[k].v.lo > 0 ? -1.0 : 1.0));
+      s.ng = constant(dv(*ax[k]) * (lo(dl[k].v) > 0 ? -1.0 : 1.0));
     } else if (max_near_hi < 0 && unique_min(farv, k) && positive(farv[k])) {
       s.t = farv[k], s.from_outside = false;
-      s.ng = constant(dv(*ax[k]) * (dl[k].v.lo > 0 ? 1.0 : -1.0));
+      s.ng = constant(dv(*ax[k]) * (lo(dl[k].v) > 0 ? 1.0 : -1.0));
     } else {
       return reject(cell_reason::discontinuity);
     }
@@ -278,12 +292,12 @@ struct evaluator {
       jv rel = p - a;
       djet u = dot(rel, b1), vv = dot(rel, b2);
       djet w0 = 1.0 - u - vv;
-      if (u.v.lo >= 0 && vv.v.lo >= 0 && w0.v.lo >= 0) {
+      if (lo(u.v) >= 0 && lo(vv.v) >= 0 && lo(w0.v) >= 0) {
         jv m = constant(dv(n[0])) * w0 + constant(dv(n[i])) * u + constant(dv(n[i + 1])) * vv;
         ns = normalize(m);
         return true;
       }
-      bool outside = u.v.hi < 0 || vv.v.hi < 0 || w0.v.hi < 0;
+      bool outside = hi(u.v) < 0 || hi(vv.v) < 0 || hi(w0.v) < 0;
       if (!outside) return reject(cell_reason::discontinuity);  // straddles a fan edge: a kink
     }
     return reject(cell_reason::discontinuity);
@@ -409,7 +423,7 @@ struct evaluator {
       jv lj = normalize(to_light);
       djet ndl = dot(nf, lj);
       if (status == light_behind) {
-        if (!(ndl.v.hi <= 0)) return reject(cell_reason::discontinuity);
+        if (!(hi(ndl.v) <= 0)) return reject(cell_reason::discontinuity);
         continue;
       }
       if (status >= 0) {  // blocked at every corner: prove it for every ray
@@ -435,8 +449,10 @@ struct evaluator {
       }
     }
     const bool leave_ok = cannot_reenter(kind, sf.from_outside);
+    // Reflected and refracted directions of unit vectors are unit (whitted.md 4); normalizing
+    // intervals would only lose that.
     if (n.reflect >= 0) {
-      jv rd = normalize(d - nf * (2.0 * dot(d, nf)));
+      jv rd = d - nf * (2.0 * dot(d, nf));
       djet Lr[3];
       if (!radiance(n.reflect, above, rd, depth + 1, prim, leave_ok, Lr, nullptr, nullptr)) return false;
       for (int c = 0; c < 3; ++c) acc[c] = acc[c] + Lr[c] * double(m.ks);
@@ -447,12 +463,12 @@ struct evaluator {
       djet k = 1.0 - eta * eta * (1.0 - sqr(ci));
       djet Lt[3];
       if (n.tir) {
-        if (!(k.v.hi < 0)) return reject(cell_reason::discontinuity);
-        jv rd = normalize(d - nf * (2.0 * dot(d, nf)));
+        if (!(hi(k.v) < 0)) return reject(cell_reason::discontinuity);
+        jv rd = d - nf * (2.0 * dot(d, nf));
         if (!radiance(n.refract, above, rd, depth + 1, prim, leave_ok, Lt, nullptr, nullptr)) return false;
       } else {
         if (!positive(k)) return reject(cell_reason::discontinuity);
-        jv td = normalize(d * eta + nf * (ci * eta - sqrt(k)));
+        jv td = d * eta + nf * (ci * eta - sqrt(k));
         jv below = sf.p - nf * delta;
         // A refracted segment passes through a plane; inside a sphere or box it meets the
         // solid again only at its target, the exit point.
