@@ -50,7 +50,7 @@ class linetree_set {
   size_t bytes() const;  // nodes and interpolants held
 
  private:
-  const std::vector<bounds>& bounds_;
+  std::vector<bounds> bounds_;  // a copy: small, and no lifetime tie to the world
   std::unique_ptr<std::array<std::atomic<linetree*>, 6>[]> trees_;
   size_t count_;
 };

@@ -69,9 +69,7 @@ inline void edge_plane(const float (&face)[2][6], const int (&who)[6], double pa
 }  // namespace
 
 shaft make_shaft(const bounds& a, const bounds& b) {
-  shaft s;
-  for (int k = 0; k < shaft_max_planes; ++k)
-    s.nx[k] = s.ny[k] = s.nz[k] = 0, s.d[k] = std::numeric_limits<float>::infinity();
+  shaft s;  // empty, no planes
   const bool ea = is_empty(a), eb = is_empty(b);
   if (ea && eb) return s;  // default bounds: empty, culls every finite box
   bounds u = ea ? b : a;

@@ -11,6 +11,7 @@
 #pragma once
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #if defined(__AVX__)
@@ -23,21 +24,27 @@
 namespace epsray {
 
 // Slack, relative to the largest absolute coordinate of the union box, by which the union
-// box is grown and every plane pushed outwards. Float evaluation of a plane over the (grown)
-// union box errs by ~3e-7 of that size, so this leaves ~30x room for the caller's rounding
-// (a segment end computed as a + t * (b - a) may stray a few ulps outside A or B).
+// box is grown and every plane pushed outwards (by at least that distance). Float
+// evaluation of a plane over the (grown) union box errs by < 2e-7 of that size, so this
+// leaves ample room for the caller's rounding too (a segment end computed as a + t (b - a)
+// may stray a few ulps outside A or B). Offsets from a box of size delta around a point
+// are the caller's to add: grow A or B first.
 constexpr float shaft_rel_tol = 1e-5f;
 
 constexpr int shaft_max_planes = 8;
 constexpr int shaft_stack_size = 64;
 
-// Plain data, no allocation. Planes are n . p <= d, SoA for one 8-wide test; unused slots
-// hold n = 0, d = +inf (never reject). A shaft of an empty pair has an empty box.
+// Plain data, no allocation. Planes are n . p <= d (n not normalised; two components of n
+// are nonzero), SoA for one 8-wide test; unused slots hold n = 0, d = +inf (never reject).
+// A default shaft, like the shaft of two empty boxes, is empty: it culls every finite box.
 struct alignas(32) shaft {
-  float nx[shaft_max_planes], ny[shaft_max_planes], nz[shaft_max_planes], d[shaft_max_planes];
+  static constexpr float inf = std::numeric_limits<float>::infinity();
+  float nx[shaft_max_planes] = {}, ny[shaft_max_planes] = {}, nz[shaft_max_planes] = {};
+  float d[shaft_max_planes] = {inf, inf, inf, inf, inf, inf, inf, inf};
   bounds box;  // union box of A and B, grown by the slack
   int planes = 0;
 };
+static_assert(shaft_max_planes == 8);
 
 // The shaft of A and B (either may be flat or a point; an empty one is ignored).
 shaft make_shaft(const bounds& a, const bounds& b);
