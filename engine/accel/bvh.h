@@ -66,6 +66,8 @@ inline bool traverse_bvh(const bvh& b, const ray& r, float& tmax, Leaf&& leaf) {
   entry stack[bvh_stack_size];
   int top = 0;
   stack[top++] = {0, 0, root_near};
+  // Slab planes as (lo - o) * inv_d, not the FMA form lo * inv_d - o * inv_d: with a tiny
+  // direction component o * inv_d is huge and the difference loses every digit.
   const __m128 ox = _mm_set1_ps(r.o.x), oy = _mm_set1_ps(r.o.y), oz = _mm_set1_ps(r.o.z);
   const __m128 ix = _mm_set1_ps(r.inv_d.x), iy = _mm_set1_ps(r.inv_d.y), iz = _mm_set1_ps(r.inv_d.z);
   const __m128 zero = _mm_setzero_ps();
@@ -82,13 +84,13 @@ inline bool traverse_bvh(const bvh& b, const ray& r, float& tmax, Leaf&& leaf) {
       continue;
     }
     const bvh4_node& n = nodes[e.index];
-    // Operand order keeps NaN lanes (0 * inf) from widening the interval.
     __m128 t0x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[0]), ox), ix);
     __m128 t1x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[0]), ox), ix);
     __m128 t0y = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[1]), oy), iy);
     __m128 t1y = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[1]), oy), iy);
     __m128 t0z = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[2]), oz), iz);
     __m128 t1z = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[2]), oz), iz);
+    // Operand order keeps NaN lanes (0 * inf) from widening the interval.
     __m128 tn = _mm_max_ps(_mm_max_ps(_mm_min_ps(t0x, t1x), _mm_min_ps(t0y, t1y)), _mm_max_ps(_mm_min_ps(t0z, t1z), zero));
     __m128 tf = _mm_min_ps(_mm_min_ps(_mm_max_ps(t0x, t1x), _mm_max_ps(t0y, t1y)),
                            _mm_min_ps(_mm_max_ps(t0z, t1z), _mm_set1_ps(tmax)));
@@ -97,6 +99,12 @@ inline bool traverse_bvh(const bvh& b, const ray& r, float& tmax, Leaf&& leaf) {
     if (!mask) continue;
     alignas(16) float tnear[4];
     _mm_store_ps(tnear, tn);
+    if constexpr (any) {
+      // Any hit ends the walk, so order does not matter.
+      for (int k = 0; k < 4; ++k)
+        if (mask >> k & 1) stack[top++] = {n.child[k], n.count[k], tnear[k]};
+      continue;
+    }
     // Push hit children farthest first so the nearest is popped next.
     entry hits[4];
     int nh = 0;

@@ -16,7 +16,7 @@ world make_world(scene s) {
   w.shapes.reserve(s.prims.size());
   for (int src : w.tree.order) {
     w.shapes.push_back(make_shape(s, s.prims[size_t(src)], w.polys));
-    w.info.push_back({s.prims[size_t(src)].material, src});
+    w.info.push_back({s.prims[size_t(src)].material, src, s.prims[size_t(src)].kind == prim_kind::patch});
     w.prim_bounds.push_back(boxes[size_t(src)]);
   }
   w.shape_of.resize(s.prims.size());

@@ -11,7 +11,8 @@ namespace epsray {
 
 struct shape_info {
   int material = 0;
-  int source = 0;  // index into scene::prims
+  int source = 0;      // index into scene::prims
+  bool patch = false;  // shading normals interpolated from the vertices
 };
 
 struct world {

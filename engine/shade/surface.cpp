@@ -46,47 +46,48 @@ vec3 patch_normal(const scene& s, const primitive& pr, vec3 p) {
   return len > 0 ? ns / len : polygon_normal(s, pr);
 }
 
-vec3 cone_normal(const primitive& pr, vec3 p) {
-  vec3 axis = pr.b - pr.a;
-  float h = glm::length(axis);
-  axis /= h;
-  vec3 q = p - pr.a;
-  vec3 radial = q - glm::dot(q, axis) * axis;
-  float rl = glm::length(radial);
-  vec3 ru = rl > 0 ? radial / rl : perpendicular(axis);
-  float k = (std::fabs(pr.r1) - std::fabs(pr.r0)) / h;
-  vec3 n = glm::normalize(ru - k * axis);  // gradient of distance-to-axis minus radius
-  return (pr.r0 < 0 || pr.r1 < 0) ? -n : n;
-}
-
-vec3 box_normal(const primitive& pr, vec3 p) {
-  vec3 q = p - pr.a;
-  int best = 0;
-  float best_v = -1, sign = 1;
-  for (int i = 0; i < 3; ++i) {
-    float l = glm::dot(q, pr.frame[i]) / pr.b[i];
-    if (std::fabs(l) > best_v) best_v = std::fabs(l), best = i, sign = l < 0 ? -1.0f : 1.0f;
-  }
-  return sign * pr.frame[best];
-}
-
 }  // namespace
 
 surface surface_at(const world& w, int prim, const ray& r, float t) {
-  const scene& s = w.sc;
-  const primitive& pr = s.prims[size_t(w.info[size_t(prim)].source)];
+  // Normals come from the 64-byte shape record the hit test just read (hot in cache);
+  // only patches and negative-radius cones need the scene's primitive.
+  const shape& sh = w.shapes[size_t(prim)];
   surface out;
   out.p = r.o + t * r.d;
-  switch (pr.kind) {
-    case prim_kind::sphere: out.ng = (out.p - pr.a) / pr.r0; break;  // negative r flips
-    case prim_kind::cone: out.ng = cone_normal(pr, out.p); break;
-    case prim_kind::polygon:
-    case prim_kind::patch: out.ng = polygon_normal(s, pr); break;
-    case prim_kind::disk: out.ng = pr.b; break;
-    case prim_kind::box: out.ng = box_normal(pr, out.p); break;
+  switch (sh.kind) {
+    case shape_kind::sphere: out.ng = (out.p - sh.sphere.c) / sh.sphere.r; break;  // negative r flips
+    case shape_kind::triangle: out.ng = glm::cross(sh.tri.e1, sh.tri.e2); break;
+    case shape_kind::polygon: out.ng = sh.poly.n; break;
+    case shape_kind::disk: out.ng = sh.disk.n; break;
+    case shape_kind::cone: {
+      vec3 q = out.p - sh.cone.base;
+      vec3 radial = q - glm::dot(q, sh.cone.axis) * sh.cone.axis;
+      float rl = glm::length(radial);
+      vec3 ru = rl > 0 ? radial / rl : perpendicular(sh.cone.axis);
+      out.ng = ru - sh.cone.k * sh.cone.axis;  // gradient of distance-to-axis minus radius
+      const primitive& pr = w.sc.prims[size_t(w.info[size_t(prim)].source)];
+      if (pr.r0 < 0 || pr.r1 < 0) out.ng = -out.ng;
+      break;
+    }
+    case shape_kind::box: {
+      vec3 q = out.p - sh.box.c;
+      const vec3* ax[3] = {&sh.box.ax0, &sh.box.ax1, &sh.box.ax2};
+      int best = 0;
+      float best_v = -1, sign = 1;
+      for (int i = 0; i < 3; ++i) {
+        float l = glm::dot(q, *ax[i]) / sh.box.half[i];
+        if (std::fabs(l) > best_v) best_v = std::fabs(l), best = i, sign = l < 0 ? -1.0f : 1.0f;
+      }
+      out.ng = sign * *ax[best];
+      break;
+    }
   }
   out.ng = glm::normalize(out.ng);
-  out.ns = pr.kind == prim_kind::patch ? patch_normal(s, pr, out.p) : out.ng;
+  out.ns = out.ng;
+  if (w.info[size_t(prim)].patch) {
+    const primitive& pr = w.sc.prims[size_t(w.info[size_t(prim)].source)];
+    out.ns = patch_normal(w.sc, pr, out.p);
+  }
   return out;
 }
 
