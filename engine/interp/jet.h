@@ -11,7 +11,11 @@
 //        p = f^k:      p' = k f^(k-1) f',     p'' = k (k-1) f^(k-2) f'^2 + k f^(k-1) f''
 // Where a derivative does not exist or is unbounded somewhere in the box (sqrt at 0, f^k with
 // k < 1 or k < 2 at 0, the kink of max(0, x)), that component is "unbounded": entire() for
-// intervals, NaN for floating-point T. The value component stays a valid enclosure.
+// intervals, NaN for floating-point T. The value component stays a valid enclosure. An
+// unbounded component times an exact [0, 0] gives 0 (interval 0 * inf = 0): right for a true
+// constant factor, the only way an exact [0, 0] arises over a box of positive width.
+//
+// A jet is an aggregate: jet<T>{c} is the constant c (d = dd = 0), as is jet_constant(c).
 #pragma once
 
 #include <cmath>
@@ -289,6 +293,8 @@ inline jet<T> pow(const jet<T>& f, double k) {
 // Otherwise (the box straddles the kink) the value is [0, hi] and both derivatives are
 // unbounded: max(0, x) has no derivative at the kink and the second derivative there is a
 // Dirac spike, so no finite enclosure of f'' exists for such a box.
+// For a lobe max(0, f)^k prefer pow(f, k): pow already means max(0, f)^k, and for k >= 2 it
+// keeps f'' finite on boxes across the lobe's edge, where pow(max0(f), k) is unbounded.
 template <class T>
 inline jet<T> max0(const jet<T>& f) {
   using namespace jet_detail;
