@@ -8,6 +8,12 @@ namespace epsray {
 
 namespace {
 
+double box_area(const bounds& b) {
+  if (b.empty()) return 0;
+  glm::dvec3 e = glm::dvec3(b.hi) - glm::dvec3(b.lo);
+  return 2 * (e.x * e.y + e.y * e.z + e.z * e.x);
+}
+
 struct builder {
   const std::vector<bounds>& prims;
   const bvh_params& params;
@@ -39,11 +45,11 @@ struct builder {
 
     vec3 ext = cbox.extent();
     int axis = ext.x >= ext.y ? (ext.x >= ext.z ? 0 : 2) : (ext.y >= ext.z ? 1 : 2);
-    int mid = -1;
+    int mid = no_split;
     // Past depth 40 split at the median so the traversal stack (64) can never overflow.
     if (ext[axis] > 0 && depth < 40) {
       mid = sah_split(begin, end, axis, cbox, box, n);
-      if (mid == begin - 1) return make_leaf(nodes[at], begin, end);  // SAH says: leaf
+      if (mid == leaf_cheaper) return make_leaf(nodes[at], begin, end);
     }
     if (mid <= begin || mid >= end) {
       if (n <= params.max_leaf) return make_leaf(nodes[at], begin, end);
@@ -64,43 +70,52 @@ struct builder {
     build(right, mid, end, depth + 1);
   }
 
-  // Binned SAH. Returns the partition point, or begin - 1 when a leaf is cheaper.
+  static constexpr int no_split = -1;       // no SAH split found: the caller halves
+  static constexpr int leaf_cheaper = -2;   // SAH prefers a leaf (only for n <= max_leaf)
+
+  // Binned SAH. Returns the partition point, no_split or leaf_cheaper.
   int sah_split(int begin, int end, int axis, const bounds& cbox, const bounds& box, int n) {
     const int nb = params.bins;
     const size_t nbs = size_t(nb);
     std::vector<bounds> bin_box(nbs);
     std::vector<int> bin_count(nbs, 0);
-    float lo = cbox.lo[axis], scale = float(nb) / (cbox.hi[axis] - lo);
-    auto bin_of = [&](int prim) { return std::min(nb - 1, int((centres[size_t(prim)][axis] - lo) * scale)); };
+    // In double: a centroid spread of a denormal would make the float scale infinite.
+    double lo = cbox.lo[axis], scale = double(nb) / (double(cbox.hi[axis]) - lo);
+    if (!std::isfinite(scale)) return no_split;
+    auto bin_of = [&](int prim) {
+      double f = (double(centres[size_t(prim)][axis]) - lo) * scale;
+      return f >= 0 ? std::min(nb - 1, int(std::min(f, double(nb)))) : 0;
+    };
     for (int i = begin; i < end; ++i) {
       int b = bin_of(idx[size_t(i)]);
       bin_box[size_t(b)].grow(prims[size_t(idx[size_t(i)])]);
       ++bin_count[size_t(b)];
     }
-    std::vector<float> left_area(nbs), right_area(nbs);
+    // Areas in double: huge scenes overflow float products of area and count.
+    std::vector<double> left_area(nbs), right_area(nbs);
     std::vector<int> left_n(nbs), right_n(nbs);
     bounds acc;
     int cnt = 0;
     for (int i = 0; i < nb; ++i) {
       acc.grow(bin_box[size_t(i)]), cnt += bin_count[size_t(i)];
-      left_area[size_t(i)] = acc.area(), left_n[size_t(i)] = cnt;
+      left_area[size_t(i)] = box_area(acc), left_n[size_t(i)] = cnt;
     }
     acc = bounds{}, cnt = 0;
     for (int i = nb - 1; i >= 0; --i) {
       acc.grow(bin_box[size_t(i)]), cnt += bin_count[size_t(i)];
-      right_area[size_t(i)] = acc.area(), right_n[size_t(i)] = cnt;
+      right_area[size_t(i)] = box_area(acc), right_n[size_t(i)] = cnt;
     }
-    float best = INFINITY;
+    double best = INFINITY;
     int best_i = -1;
     for (int i = 0; i + 1 < nb; ++i) {
       if (left_n[size_t(i)] == 0 || right_n[size_t(i + 1)] == 0) continue;
-      float c = left_area[size_t(i)] * float(left_n[size_t(i)]) + right_area[size_t(i + 1)] * float(right_n[size_t(i + 1)]);
+      double c = left_area[size_t(i)] * double(left_n[size_t(i)]) + right_area[size_t(i + 1)] * double(right_n[size_t(i + 1)]);
       if (c < best) best = c, best_i = i;
     }
-    if (best_i < 0) return -1;
-    float area = box.area();
-    float split_cost = params.traversal_cost + (area > 0 ? best / area : 0);
-    if (n <= params.max_leaf && split_cost >= float(n)) return begin - 1;
+    if (best_i < 0) return no_split;
+    double area = box_area(box);
+    double split_cost = params.traversal_cost + (area > 0 && std::isfinite(area) ? best / area : 0);
+    if (n <= params.max_leaf && split_cost >= double(n)) return leaf_cheaper;
     auto it = std::partition(idx.begin() + begin, idx.begin() + end, [&](int p) { return bin_of(p) <= best_i; });
     return int(it - idx.begin());
   }
