@@ -16,7 +16,13 @@ How each NFF feature maps (whitted.md is the reference model):
 * Handedness. Tachyon builds its camera's right vector as up x view, i.e. it
   is left-handed; NFF (and epsray) use r = view x up. Every x coordinate
   (points, normals, camera vectors, lights) is negated, which mirrors the
-  world so Tachyon's image comes out the right way round.
+  world so Tachyon's image comes out the right way round. A mirror also
+  reverses every polygon's winding, so each triangle is written as
+  (v0, v2, v1): Tachyon's STRI turns its interpolated normal towards the
+  viewer by the winding's normal (v1-v0) x (v2-v0), the same rule as
+  whitted.md's "entering" test, and that needs the winding to agree with
+  the (mirrored) vertex normals again; without the swap smooth patches
+  would be shaded from the wrong side.
 * Camera. CENTER = from, VIEWDIR = normalize(at - from), UPDIR = up (Tachyon
   orthogonalises it itself). Tachyon samples pixel column c (0-based, from
   the left) at image-plane coordinate left + (c+1)*(right-left)/W and row r
@@ -454,16 +460,20 @@ def write_tachyon(sc, out, size, depth, cones, cone_segments, use_frustum,
     def tri(a, b, c, tex):
         if norm(cross(sub(b, a), sub(c, a))) == 0.0:
             return
+        # b and c swapped: the mirror reverses the winding (see docstring)
         emit("TRI V0 %s V1 %s V2 %s %s"
-             % (fmtv(mirror(a)), fmtv(mirror(b)), fmtv(mirror(c)), tex))
+             % (fmtv(mirror(a)), fmtv(mirror(c)), fmtv(mirror(b)), tex))
         counts["TRI"] += 1
 
     def stri(a, b, c, na, nb, nc, tex):
         if norm(cross(sub(b, a), sub(c, a))) == 0.0:
             return
+        # b and c swapped: the mirror reverses the winding, and Tachyon
+        # turns the interpolated normal to the viewer's side by the
+        # winding's normal (v1-v0) x (v2-v0), as whitted.md does
         emit("STRI V0 %s V1 %s V2 %s N0 %s N1 %s N2 %s %s"
-             % (fmtv(mirror(a)), fmtv(mirror(b)), fmtv(mirror(c)),
-                fmtv(mirror(na)), fmtv(mirror(nb)), fmtv(mirror(nc)), tex))
+             % (fmtv(mirror(a)), fmtv(mirror(c)), fmtv(mirror(b)),
+                fmtv(mirror(na)), fmtv(mirror(nc)), fmtv(mirror(nb)), tex))
         counts["STRI"] += 1
 
     for kind, mi, data in sc.objects:

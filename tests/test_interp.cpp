@@ -1,0 +1,352 @@
+// Radiance interpolants and the error predicate (issue 3): quadrilinear interpolation,
+// linetree lookup, --eps 0 against base, and the soundness of the bound: whenever the
+// predicate accepts a cell, every line sampled inside it hits the same object with the
+// same ray tree and interpolates within the proven error.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "interp/interp_shade.h"
+#include "interp/line_space.h"
+#include "interp/linetree.h"
+#include "predicate/error_predicate.h"
+#include "sched/frame_render.h"
+#include "sched/verify.h"
+#include "test_util.h"
+
+namespace epsray {
+namespace {
+
+world world_of(const std::string& text) { return make_world(parse_scene(text, "test.nff", "")); }
+
+// The line of the cell through the point c = (a, b, c, d) of line space.
+ray cell_line(const facepair& fp, const float* c) {
+  glm::vec3 p0 = front_point(fp, c[0], c[1]), p1 = back_point(fp, c[2], c[3]);
+  return make_ray(p0, glm::normalize(p1 - p0));
+}
+
+// Traces the 16 extremal lines of a cell against `prim` alone, recording their ray trees
+// and radiance; false if one misses.
+bool trace_corners(const world& w, int prim, const facepair& fp, const float* lo, const float* hi,
+                   std::array<ray_tree, 16>& trees, glm::vec3* radiance = nullptr) {
+  trace_state ts;
+  for (int k = 0; k < 16; ++k) {
+    float c[4];
+    for (int i = 0; i < 4; ++i) c[i] = (k >> i & 1) ? hi[i] : lo[i];
+    ray r = cell_line(fp, c);
+    float t;
+    if (!hit_shape(w.shapes[size_t(prim)], w.polys, r, INFINITY, t)) return false;
+    trees[size_t(k)].clear();
+    ts.tree = &trees[size_t(k)];
+    glm::vec3 L = shade_hit(w, r, hit{t, prim}, 1, ts);
+    if (radiance) radiance[k] = L;
+  }
+  return true;
+}
+
+cell_bound bound(const world& w, int prim, const facepair& fp, const float* lo, const float* hi,
+                 const ray_tree& tree) {
+  cell_query q;
+  q.w = &w, q.prim = prim, q.fp = &fp, q.lo = lo, q.hi = hi, q.tree = &tree;
+  return bound_cell(q);
+}
+
+TEST(Interpolant, QuadrilinearReproducesMultilinearFunctions) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1, 1), t01(0, 1);
+  for (int rep = 0; rep < 50; ++rep) {
+    float coef[16];
+    for (float& c : coef) c = u(rng);
+    // f(t) = sum over subsets S of coef[S] * prod_{i in S} t_i: multilinear.
+    auto f = [&](const float t[4]) {
+      float s = 0;
+      for (int m = 0; m < 16; ++m) {
+        float p = coef[m];
+        for (int i = 0; i < 4; ++i)
+          if (m >> i & 1) p *= t[i];
+        s += p;
+      }
+      return s;
+    };
+    float corner[16];
+    for (int k = 0; k < 16; ++k) {
+      float t[4];
+      for (int i = 0; i < 4; ++i) t[i] = float(k >> i & 1);
+      corner[k] = f(t);
+    }
+    for (int s = 0; s < 20; ++s) {
+      float t[4] = {t01(rng), t01(rng), t01(rng), t01(rng)}, w[16];
+      corner_weights(t, w);
+      EXPECT_NEAR(interpolate(corner, w), f(t), 1e-5f);
+    }
+  }
+}
+
+TEST(Linetree, LookupFindsTheLeafHoldingTheLine) {
+  bounds box{vec3(-1), vec3(1)};
+  linetree_set set(std::vector<bounds>{box});
+  linetree& lt = set.get(0, 4);  // axis z, positive
+  std::mt19937 rng(3);
+  for (int rep = 0; rep < 200; ++rep) {
+    float x[4];
+    for (int i = 0; i < 4; ++i) x[i] = std::uniform_real_distribution<float>(lt.root.lo[i], lt.root.hi[i])(rng);
+    lt_node* n = &lt.root;
+    for (int d = 0; d < 6; ++d) n = &subdivide(*n)[child_index(*n, x)];
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_LE(n->lo[i], x[i]);
+      EXPECT_GE(n->hi[i], x[i]);
+    }
+    EXPECT_EQ(n->depth, 6);
+  }
+}
+
+TEST(Linetree, LineCoordinatesRoundTrip) {
+  facepair fp = make_facepair(bounds{vec3(-1, -2, -3), vec3(1, 2, 3)}, 5);  // axis z, negative
+  glm::vec3 o(0.3f, -0.2f, 9), d = glm::normalize(glm::vec3(0.1f, 0.05f, -1));
+  float x[4];
+  line_coords(fp, o, d, x);
+  glm::vec3 p0 = front_point(fp, x[0], x[1]), p1 = back_point(fp, x[2], x[3]);
+  glm::vec3 d2 = glm::normalize(p1 - p0);
+  EXPECT_NEAR(glm::dot(d, d2), 1.0f, 1e-6f);
+  EXPECT_TRUE(in_front(fp, o));
+}
+
+const char* lit_sphere = R"(
+v
+from 0 0 5
+at 0 0 0
+up 0 1 0
+angle 40
+hither 0.01
+resolution 64 48
+b 0.1 0.1 0.2
+l 4 5 6
+f 0.9 0.5 0.2 0.8 0.2 30 0 1
+s 0 0 0 1
+f 0.8 0.8 0.8 1 0 0 0 1
+p 4
+-4 -1.2 -4
+4 -1.2 -4
+4 -1.2 4
+-4 -1.2 4
+)";
+
+frame_result render(const world& w, render_mode mode, float eps, int width, int height, linetree_set* trees) {
+  workers pool(2);
+  frame_params p;
+  p.mode = mode;
+  p.interp.eps = eps;
+  p.trees = trees;
+  return render_frame(pool, w, make_camera(w.sc.view, width, height), p);
+}
+
+TEST(InterpMode, EpsZeroReproducesBaseExactly) {
+  world w = world_of(lit_sphere);
+  linetree_set trees(w.prim_bounds);
+  frame_result a = render(w, render_mode::interp, 0, 64, 48, &trees);
+  frame_result b = render(w, render_mode::base, 0, 64, 48, nullptr);
+  EXPECT_EQ(a.img.pixels, b.img.pixels);
+  EXPECT_EQ(a.pixels.interp, 0u);
+}
+
+// Zero pixels over epsilon, with a real share interpolated (so the test can fail both ways).
+void expect_bounded(const world& w, float eps, int width, int height, double min_share) {
+  linetree_set trees(w.prim_bounds);
+  frame_result fr = render(w, render_mode::interp, eps, width, height, &trees);
+  workers pool(2);
+  verify_result v = verify_frame(pool, w, make_camera(w.sc.view, width, height), fr.img, eps);
+  EXPECT_EQ(v.violations, 0u) << "max error " << v.max_rel_err;
+  EXPECT_LE(v.max_rel_err, eps);
+  EXPECT_GE(double(fr.pixels.interp), min_share * width * height);
+}
+
+TEST(InterpMode, LitSphereStaysWithinEpsilon) {
+  world w = world_of(lit_sphere);
+  for (float eps : {0.01f, 0.05f, 0.2f}) expect_bounded(w, eps, 160, 120, 0.05);
+}
+
+TEST(InterpMode, RepositoryScenesStayWithinEpsilon) {
+  for (const char* name : {"sphere", "glass", "mirror", "shapes"}) {
+    SCOPED_TRACE(name);
+    world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/tests/" + name + ".nff"));
+    expect_bounded(w, 0.05f, 120, 90, 0.0);
+  }
+}
+
+TEST(InterpMode, ArtRoomStaysWithinEpsilon) {
+  world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/artroom.nff"));
+  expect_bounded(w, 0.05f, 120, 90, 0.1);
+}
+
+TEST(InterpMode, SpdScenesStayWithinEpsilon) {
+  for (const char* name : {"balls-s3", "teapot-s6", "rings-s3"}) {
+    if (!std::filesystem::is_regular_file(test::spd_scene(name))) GTEST_SKIP() << "no ../shared";
+    SCOPED_TRACE(name);
+    world w = make_world(load_scene(test::spd_scene(name).string()));
+    expect_bounded(w, 0.05f, 96, 96, 0.0);
+  }
+}
+
+// Soundness, sampled: for cells met by eye rays of a scene, whenever the predicate accepts,
+// lines sampled in the cell hit the object with the cell's topology and stay within err.
+struct sound_stats {
+  int accepted = 0, rejected = 0;
+};
+
+void check_soundness(const world& w, int samples_per_cell, int depth_lo, int depth_hi, sound_stats& st) {
+  linetree_set trees(w.prim_bounds);
+  camera cam = make_camera(w.sc.view, 48, 36);
+  trace_state ts;
+  std::mt19937 rng(11);
+  std::array<ray_tree, 16> corner_trees;
+  ray_tree probe;
+  for (int y = 0; y < cam.height; y += 3) {
+    for (int x = 0; x < cam.width; x += 3) {
+      ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
+      hit h;
+      if (!closest_hit(w, r, INFINITY, h)) continue;
+      linetree& lt = trees.get(h.prim, facepair_of(r.d));
+      float x4[4];
+      line_coords(lt.fp, r.o, r.d, x4);
+      lt_node* n = &lt.root;
+      for (int d = 0; d < depth_hi; ++d) {
+        n = &subdivide(*n)[child_index(*n, x4)];
+        if (d + 1 < depth_lo) continue;
+        glm::vec3 L[16];
+        if (!trace_corners(w, h.prim, lt.fp, n->lo, n->hi, corner_trees, L)) continue;
+        bool same = true;
+        for (int k = 1; k < 16; ++k) same = same && same_topology(corner_trees[0], corner_trees[size_t(k)]);
+        if (!same) continue;
+        cell_bound b = bound(w, h.prim, lt.fp, n->lo, n->hi, corner_trees[0]);
+        if (b.reason != cell_reason::valid) {
+          ++st.rejected;
+          continue;
+        }
+        ++st.accepted;
+        for (int s = 0; s < samples_per_cell; ++s) {
+          float t01[4], c[4], wts[16];
+          for (int i = 0; i < 4; ++i) {
+            t01[i] = std::uniform_real_distribution<float>(0, 1)(rng);
+            c[i] = n->lo[i] + t01[i] * (n->hi[i] - n->lo[i]);
+          }
+          ray lr = cell_line(lt.fp, c);
+          float t;
+          ASSERT_TRUE(hit_shape(w.shapes[size_t(h.prim)], w.polys, lr, INFINITY, t)) << "accepted cell has a gap";
+          probe.clear();
+          ts.tree = &probe;
+          glm::vec3 f = shade_hit(w, lr, hit{t, h.prim}, 1, ts);
+          ASSERT_TRUE(same_topology(corner_trees[0], probe)) << "accepted cell has a discontinuity";
+          corner_weights(t01, wts);
+          glm::vec3 I = interpolate(L, wts);
+          for (int ch = 0; ch < 3; ++ch)
+            ASSERT_LE(std::fabs(f[ch] - I[ch]), b.err[ch] + 2e-5f * (std::fabs(f[ch]) + 1e-2f))
+                << "bound broken at depth " << n->depth;
+        }
+      }
+    }
+  }
+}
+
+TEST(Predicate, SoundOnLitSphereAndFloor) {
+  sound_stats s;
+  check_soundness(world_of(lit_sphere), 24, 4, 9, s);
+  EXPECT_GT(s.accepted, 20);
+}
+
+TEST(Predicate, SoundWithOccludersShadowsGlassAndHighlights) {
+  // A glass sphere (refraction, TIR near its rim), a sharp highlight, a small occluder
+  // between the floor and the light, and a mirror.
+  world w = world_of(R"(
+v
+from 0 1.5 6
+at 0 0 0
+up 0 1 0
+angle 45
+hither 0.01
+resolution 48 36
+l 2 5 3
+l -3 4 1 0.4 0.4 0.5
+f 1 1 1 0 0.1 50 0.9 1.5
+s -0.8 0 0 0.7
+f 0.9 0.3 0.3 0.7 0.3 400 0 1
+s 0.9 0 0 0.6
+f 0.3 0.3 0.3 0.6 0 0 0 1
+s 1.3 2.2 1.7 0.15
+f 0.8 0.8 0.7 0.8 0.2 0 0 1
+p 4
+-5 -0.8 -5
+5 -0.8 -5
+5 -0.8 5
+-5 -0.8 5
+)");
+  sound_stats s;
+  check_soundness(w, 16, 5, 9, s);
+  EXPECT_GT(s.accepted, 10);
+  EXPECT_GT(s.rejected, 10);
+}
+
+TEST(Predicate, RejectsACellWhoseShadowShaftHoldsAnOccluder) {
+  // A lit floor; a tiny sphere between the floor and the light shadows the middle of a cell
+  // whose 16 extremal lines all see the light.
+  world w = world_of(R"(
+v
+from 0 4 0.01
+at 0 0 0
+up 0 0 -1
+angle 40
+hither 0.01
+resolution 32 32
+l 0 6 0
+f 0.5 0.5 0.5 0.3 0 0 0 1
+s 0 3 0 0.01
+f 0.8 0.8 0.8 1 0 0 0 1
+p 4
+-2 0 -2
+2 0 -2
+2 0 2
+-2 0 2
+)");
+  int floor = w.shape_of[1];
+  linetree_set trees(w.prim_bounds);
+  linetree& lt = trees.get(floor, 3);  // rays going down: axis y, negative
+  lt_node cell;
+  // Lines from the front square [-0.5, -0.1]^2 to the back square [0.15, 0.55]^2 meet the floor
+  // (midway between the planes) in [-0.175, 0.225]^2: around the occluder's shadow (radius
+  // 0.02 at the origin), while the nearest corner hit, (0.025, 0.025), is lit.
+  for (int i = 0; i < 2; ++i) cell.lo[i] = -0.5f, cell.hi[i] = -0.1f;
+  for (int i = 2; i < 4; ++i) cell.lo[i] = 0.15f, cell.hi[i] = 0.55f;
+  std::array<ray_tree, 16> t16;
+  ASSERT_TRUE(trace_corners(w, floor, lt.fp, cell.lo, cell.hi, t16));
+  for (int k = 0; k < 16; ++k) ASSERT_EQ(t16[size_t(k)].lights[0], light_lit) << "corner " << k << " should see the light";
+  EXPECT_EQ(bound(w, floor, lt.fp, cell.lo, cell.hi, t16[0]).reason, cell_reason::blocked);
+}
+
+TEST(Predicate, HighlightNeedsSmallerCellsThanDiffuse) {
+  auto err_at = [](float shine) {
+    std::string text = std::string(lit_sphere);
+    text.replace(text.find("30 0 1"), 6, std::to_string(shine) + " 0 1");
+    world w = world_of(text);
+    linetree_set trees(w.prim_bounds);
+    camera cam = make_camera(w.sc.view, 64, 48);
+    // The pixel at the highlight of light (4, 5, 6) seen from (0, 0, 5).
+    glm::vec3 hdir = glm::normalize(glm::normalize(glm::vec3(4, 5, 6)) + glm::vec3(0, 0, 1));
+    ray r = make_ray(cam.origin, glm::normalize(hdir - cam.origin));
+    hit h;
+    EXPECT_TRUE(closest_hit(w, r, INFINITY, h));
+    linetree& lt = trees.get(h.prim, facepair_of(r.d));
+    float x4[4];
+    line_coords(lt.fp, r.o, r.d, x4);
+    lt_node* n = &lt.root;
+    for (int d = 0; d < 8; ++d) n = &subdivide(*n)[child_index(*n, x4)];
+    std::array<ray_tree, 16> t16;
+    EXPECT_TRUE(trace_corners(w, h.prim, lt.fp, n->lo, n->hi, t16));
+    cell_bound b = bound(w, h.prim, lt.fp, n->lo, n->hi, t16[0]);
+    return b.reason == cell_reason::valid ? b.err.x : INFINITY;
+  };
+  float diffuse = err_at(1), sharp = err_at(2000);
+  EXPECT_TRUE(std::isfinite(diffuse));
+  EXPECT_GT(sharp, 10 * diffuse);
+}
+
+}  // namespace
+}  // namespace epsray

@@ -1,0 +1,73 @@
+// Small helpers shared by the test binaries: paths passed in by tests/CMakeLists.txt,
+// temporary folders, whole-file I/O, and worlds built from scene text.
+#pragma once
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <string_view>
+
+#include "accel/world.h"
+#include "scene/nff.h"
+
+namespace epsray::test {
+
+namespace fs = std::filesystem;
+
+inline fs::path shared_dir() { return fs::path(EPSRAY_SHARED_DIR); }
+inline fs::path spd_dir() { return shared_dir() / "scenes" / "spd"; }
+inline fs::path spd_scene(const std::string& name) { return spd_dir() / (name + ".nff"); }
+
+// Skips the calling test when ../shared/scenes/spd (or the one scene) is absent.
+#define EPSRAY_REQUIRE_SPD(name)                                                        \
+  do {                                                                                  \
+    if (!std::filesystem::is_regular_file(::epsray::test::spd_scene(name)))             \
+      GTEST_SKIP() << "SPD scene " << ::epsray::test::spd_scene(name) << " is absent"; \
+  } while (0)
+
+// A fresh folder under the system temp folder, removed with everything in it.
+class temp_dir {
+ public:
+  temp_dir() {
+    static std::atomic<int> counter{0};
+    path_ = fs::temp_directory_path() /
+            ("epsray-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" +
+             std::to_string(std::rand()));
+    fs::create_directories(path_);
+  }
+  ~temp_dir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  temp_dir(const temp_dir&) = delete;
+  temp_dir& operator=(const temp_dir&) = delete;
+  const fs::path& path() const { return path_; }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  fs::path path_;
+};
+
+inline void write_file(const std::string& path, std::string_view text) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(text.data(), std::streamsize(text.size()));
+  ASSERT_TRUE(out.good()) << "cannot write " << path;
+}
+
+inline std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+inline world world_from_text(std::string_view text, const std::string& name = "test.nff") {
+  return make_world(parse_scene(text, name, ""));
+}
+
+}  // namespace epsray::test
