@@ -44,22 +44,25 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
   const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
   ip->textured = m.texture >= 0;
   ray_tree* saved_tree = st.tree;
+  // All 16 hits first: cells near a silhouette are common and need no shading to reject.
+  ray lines[16];
+  float ts[16];
   for (int k = 0; k < 16; ++k) {
     glm::vec3 p0 = front_point(fp, (k & 1) ? n.hi[0] : n.lo[0], (k & 2) ? n.hi[1] : n.lo[1]);
     glm::vec3 p1 = back_point(fp, (k & 4) ? n.hi[2] : n.lo[2], (k & 8) ? n.hi[3] : n.lo[3]);
-    ray r = make_ray(p0, glm::normalize(p1 - p0));
+    lines[k] = make_ray(p0, glm::normalize(p1 - p0));
     ++st.counts.eye;
-    float t;
-    if (!hit_shape(w.shapes[size_t(prim)], w.polys, r, std::numeric_limits<float>::infinity(), t)) {
+    if (!hit_shape(w.shapes[size_t(prim)], w.polys, lines[k], std::numeric_limits<float>::infinity(), ts[k])) {
       ip->reason = cell_reason::missed;
-      st.tree = saved_tree;
       return ip;
     }
+  }
+  for (int k = 0; k < 16; ++k) {
     ray_tree& tree = scratch.trees[size_t(k)];
     tree.clear();
     st.tree = &tree;
     if (ip->textured) st.root_tex_factor = &ip->tex[k], st.root_uv = &ip->uv[k];
-    glm::vec3 L = shade_hit(w, r, hit{t, prim}, 1, st);
+    glm::vec3 L = shade_hit(w, lines[k], hit{ts[k], prim}, 1, st);
     st.root_tex_factor = nullptr, st.root_uv = nullptr;
     if (ip->textured) L -= ip->tex[k] * sample_texture(w.sc.textures[size_t(m.texture)], ip->uv[k]);
     ip->rad[k] = L;
@@ -195,10 +198,16 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
       node = &kids[child_index(*node, x4)];
       continue;
     }
+    const float pixels = cell_pixels(cam, lt.fp, *node);
+    const bool can_split = node->depth < f.p.max_depth && pixels >= 4 * f.p.min_cell_pixels;
+    if (can_split && pixels > f.p.max_cell_pixels && !node->interp.load(std::memory_order_acquire)) {
+      // Far larger on screen than any cell that proves valid: not worth 16 lines and a bound.
+      node = &subdivide(*node)[child_index(*node, x4)];
+      continue;
+    }
     ip = node->interp.load(std::memory_order_acquire);
     if (!ip) ip = publish(*node, build_interpolant(w, h.prim, lt.fp, *node, st, scratch));
-    if (!cell_accurate(*ip, f.p.eps) && node->depth < f.p.max_depth &&
-        cell_pixels(cam, lt.fp, *node) >= 4 * f.p.min_cell_pixels) {
+    if (!cell_accurate(*ip, f.p.eps) && can_split) {
       lt_node* kids = subdivide(*node);
       node = &kids[child_index(*node, x4)];
       continue;

@@ -15,6 +15,7 @@ namespace epsray {
 struct interp_params {
   float eps = 0.05f;
   float min_cell_pixels = 16;  // no subdivision into children covering fewer pixels
+  float max_cell_pixels = 4096;  // larger cells are subdivided without building an interpolant
   int max_depth = 10;          // linetree levels below the root
 };
 
