@@ -1,23 +1,66 @@
 #include "accel/world.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "geom/shape_build.h"
 
 namespace epsray {
 
+namespace {
+
+// Early split clipping (Ernst & Greiner 2007): a long thin cone or cylinder at an angle to
+// the axes has a bounding box mostly empty, which every ray near it must open. It enters
+// the BVH as several references (slots), one per length of about two diameters, each boxed
+// by the two end circles of its piece.
+void add_references(const scene& s, int src, std::vector<bounds>& boxes, std::vector<int>& owner) {
+  const primitive& p = s.prims[size_t(src)];
+  if (p.kind == prim_kind::cone) {
+    vec3 axis = p.b - p.a;
+    float len = glm::length(axis);
+    float r = std::max(std::fabs(p.r0), std::fabs(p.r1));
+    vec3 n = axis / len;
+    // Along a coordinate axis the box is tight already; pieces would only add slots.
+    bool diagonal = std::max({std::fabs(n.x), std::fabs(n.y), std::fabs(n.z)}) < 0.95f;
+    int pieces = diagonal ? std::clamp(int(len / (4 * r)), 1, 8) : 1;
+    if (pieces > 1) {
+      vec3 side = r * glm::sqrt(glm::max(vec3(0), vec3(1) - n * n));  // end circle extent
+      for (int k = 0; k < pieces; ++k) {
+        vec3 p0 = p.a + axis * (float(k) / float(pieces)), p1 = p.a + axis * (float(k + 1) / float(pieces));
+        bounds b{glm::min(p0, p1) - side, glm::max(p0, p1) + side};
+        boxes.push_back(b);
+        owner.push_back(src);
+      }
+      return;
+    }
+  }
+  boxes.push_back(primitive_bounds(s, p));
+  owner.push_back(src);
+}
+
+}  // namespace
+
 world make_world(scene s) {
   world w;
   std::vector<bounds> boxes;
+  std::vector<int> owner;  // reference -> scene primitive
   boxes.reserve(s.prims.size());
-  for (const primitive& p : s.prims) {
-    boxes.push_back(primitive_bounds(s, p));
-    w.box.grow(boxes.back());
-  }
+  for (int i = 0; i < int(s.prims.size()); ++i) add_references(s, i, boxes, owner);
+  for (const bounds& b : boxes) w.box.grow(b);
   w.tree = build_bvh(boxes);
+  // Primitive ids follow the first leaf that references each primitive, for locality.
+  std::vector<int> id_of(s.prims.size(), -1);
   w.shapes.reserve(s.prims.size());
-  for (int src : w.tree.order) {
-    w.shapes.push_back(make_shape(s, s.prims[size_t(src)], w.polys));
-    w.info.push_back({s.prims[size_t(src)].material, src, s.prims[size_t(src)].kind == prim_kind::patch});
-    w.prim_bounds.push_back(boxes[size_t(src)]);
+  for (int ref : w.tree.order) {
+    int src = owner[size_t(ref)];
+    if (id_of[size_t(src)] < 0) {
+      id_of[size_t(src)] = int(w.shapes.size());
+      w.shapes.push_back(make_shape(s, s.prims[size_t(src)], w.polys));
+      w.info.push_back({s.prims[size_t(src)].material, src, s.prims[size_t(src)].kind == prim_kind::patch});
+      w.prim_bounds.push_back(primitive_bounds(s, s.prims[size_t(src)]));
+    }
+    w.slot_prim.push_back(std::uint32_t(id_of[size_t(src)]));
+    w.slot_bounds.push_back(boxes[size_t(ref)]);
   }
   w.shape_of.resize(s.prims.size());
   for (size_t i = 0; i < w.info.size(); ++i) w.shape_of[size_t(w.info[i].source)] = int(i);

@@ -19,7 +19,10 @@ struct world {
   scene sc;
   std::vector<shape> shapes;  // indexed by primitive id (BVH leaf order)
   std::vector<shape_info> info;
-  std::vector<bounds> prim_bounds;  // per primitive id, for shaft culling
+  std::vector<bounds> prim_bounds;  // per primitive id
+  // BVH leaves hold slots: a primitive split into pieces has one slot per piece.
+  std::vector<std::uint32_t> slot_prim;  // slot -> primitive id
+  std::vector<bounds> slot_bounds;       // slot -> box of that piece
   std::vector<int> shape_of;        // scene::prims index -> primitive id
   polygon_data polys;
   bvh tree;
@@ -39,12 +42,14 @@ struct hit {
 // Nearest hit with 0 < t < tmax.
 inline bool closest_hit(const world& w, const ray& r, float tmax, hit& h) {
   const shape* shapes = w.shapes.data();
+  const std::uint32_t* slot = w.slot_prim.data();
   const polygon_data& pd = w.polys;
   return traverse_bvh<false>(w.tree, r, tmax, [&](std::uint32_t first, std::uint32_t count, float& tm) {
     bool any = false;
     for (std::uint32_t i = first; i < first + count; ++i) {
       float t;
-      if (hit_shape(shapes[i], pd, r, tm, t)) tm = t, h.t = t, h.prim = int(i), any = true;
+      std::uint32_t id = slot[i];
+      if (hit_shape(shapes[id], pd, r, tm, t)) tm = t, h.t = t, h.prim = int(id), any = true;
     }
     return any;
   });
@@ -53,12 +58,13 @@ inline bool closest_hit(const world& w, const ray& r, float tmax, hit& h) {
 // Some primitive with 0 < t < tmax, or -1: the shadow test (any hit, early exit).
 inline int first_blocker(const world& w, const ray& r, float tmax) {
   const shape* shapes = w.shapes.data();
+  const std::uint32_t* slot = w.slot_prim.data();
   const polygon_data& pd = w.polys;
   int blocker = -1;
   traverse_bvh<true>(w.tree, r, tmax, [&](std::uint32_t first, std::uint32_t count, float& tm) {
     for (std::uint32_t i = first; i < first + count; ++i) {
       float t;
-      if (hit_shape(shapes[i], pd, r, tm, t)) return blocker = int(i), true;
+      if (hit_shape(shapes[slot[i]], pd, r, tm, t)) return blocker = int(slot[i]), true;
     }
     return false;
   });

@@ -95,7 +95,7 @@ struct evaluator {
       return reject(cell_reason::blocked);
     }
     shaft s = make_shaft(a, b);
-    bool hit = for_each_in_shaft(w.tree, w.prim_bounds, s, [&](int id) { return id != skip_a && id != skip_b; });
+    bool hit = for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) { return id != skip_a && id != skip_b; });
     return hit ? reject(cell_reason::blocked) : true;
   }
 

@@ -90,8 +90,8 @@ namespace detail {
 // Depth-first walk of the binary nodes from `root`. Should the fixed stack ever fill (the
 // builder keeps depth far below 64), the subtree is walked by a nested call instead.
 template <class Visit>
-bool shaft_walk(const bvh2_node* nodes, const bounds* prim_bounds, const shaft& s, std::uint32_t root,
-                Visit& visit) {
+bool shaft_walk(const bvh2_node* nodes, const bounds* prim_bounds, const std::uint32_t* slot_prim, const shaft& s,
+                std::uint32_t root, Visit& visit) {
   std::uint32_t stack[shaft_stack_size];
   int top = 0;
   std::uint32_t at = root;
@@ -100,11 +100,11 @@ bool shaft_walk(const bvh2_node* nodes, const bounds* prim_bounds, const shaft& 
     if (shaft_may_overlap(s, bounds{n.lo, n.hi})) {
       if (n.count) {
         for (std::uint32_t i = n.index, e = n.index + n.count; i < e; ++i)
-          if (shaft_may_overlap(s, prim_bounds[i]) && visit(int(i))) return true;
+          if (shaft_may_overlap(s, prim_bounds[i]) && visit(int(slot_prim ? slot_prim[i] : i))) return true;
       } else {
         if (top < shaft_stack_size)
           stack[top++] = n.index;
-        else if (shaft_walk(nodes, prim_bounds, s, n.index, visit))
+        else if (shaft_walk(nodes, prim_bounds, slot_prim, s, n.index, visit))
           return true;
         at = at + 1;
         continue;
@@ -125,7 +125,17 @@ bool shaft_walk(const bvh2_node* nodes, const bounds* prim_bounds, const shaft& 
 template <class Visit>
 bool for_each_in_shaft(const bvh& tree, const std::vector<bounds>& prim_bounds, const shaft& s, Visit&& visit) {
   if (tree.nodes2.empty()) return false;
-  return detail::shaft_walk(tree.nodes2.data(), prim_bounds.data(), s, 0, visit);
+  return detail::shaft_walk(tree.nodes2.data(), prim_bounds.data(), nullptr, s, 0, visit);
+}
+
+// The same over leaf slots that name primitives through slot_prim (world::slot_prim and
+// world::slot_bounds, where a split primitive has several slots): a primitive may be
+// visited once per slot of it that the shaft may meet.
+template <class Visit>
+bool for_each_in_shaft(const bvh& tree, const std::vector<bounds>& slot_bounds,
+                       const std::vector<std::uint32_t>& slot_prim, const shaft& s, Visit&& visit) {
+  if (tree.nodes2.empty()) return false;
+  return detail::shaft_walk(tree.nodes2.data(), slot_bounds.data(), slot_prim.data(), s, 0, visit);
 }
 
 }  // namespace epsray
