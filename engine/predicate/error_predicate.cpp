@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 #include "geom/shape_build.h"
 #include "predicate/djet.h"
@@ -82,18 +80,14 @@ struct evaluator {
   cell_reason fail = cell_reason::valid;
   double far;  // farther than any scene point from any ray origin we see
 
-  bool reject(cell_reason r, int line = __builtin_LINE()) {
-    if (getenv("EPSRAY_DEBUG_PREDICATE")) fprintf(stderr, "reject %d at line %d\n", int(r), line);
+  bool reject(cell_reason r) {
     if (fail == cell_reason::valid) fail = r;
     return false;
   }
 
   // No primitive other than skip_a / skip_b may meet a segment from box a to box b.
   bool shaft_clear(const bounds& a, const bounds& b, int skip_a, int skip_b) {
-    if (!finite_box(a) || !finite_box(b)) {
-      if (getenv("EPSRAY_DEBUG_PREDICATE")) fprintf(stderr, "a %g %g %g .. %g %g %g b %g %g %g .. %g %g %g\n", a.lo.x, a.lo.y, a.lo.z, a.hi.x, a.hi.y, a.hi.z, b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z);
-      return reject(cell_reason::blocked);
-    }
+    if (!finite_box(a) || !finite_box(b)) return reject(cell_reason::blocked);
     shaft s = make_shaft(a, b);
     bool hit = for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) { return id != skip_a && id != skip_b; });
     return hit ? reject(cell_reason::blocked) : true;
