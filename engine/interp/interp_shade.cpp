@@ -36,46 +36,69 @@ float cell_pixels(const camera& cam, const facepair& fp, const lt_node& n) {
   return w > 0 && h > 0 ? w * h : 0;
 }
 
-// Traces the 16 extremal lines against the object alone (occlusion in front of it is the
-// visibility ray's business), records their ray trees, and asks the predicate.
+// The 16 extremal lines of a cell, traced against the object alone (occlusion in front of
+// it is the visibility ray's business), each looked up in the shared sample cache first and
+// published there after tracing; then the topology test and the predicate.
 std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const facepair& fp, const lt_node& n,
-                                               trace_state& st, interp_scratch& scratch) {
+                                               sample_cache& cache, trace_state& st, interp_scratch& scratch) {
   auto ip = std::make_unique<interpolant>();
   const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
   ip->textured = m.texture >= 0;
-  ray_tree* saved_tree = st.tree;
-  // All 16 hits first: cells near a silhouette are common and need no shading to reject.
+  line_key keys[16];
+  line_sample samples[16];
+  const ray_tree* trees[16];
+  bool known[16];
   ray lines[16];
   float ts[16];
+  // All 16 hits first: cells near a silhouette are common and need no shading to reject.
   for (int k = 0; k < 16; ++k) {
-    glm::vec3 p0 = front_point(fp, (k & 1) ? n.hi[0] : n.lo[0], (k & 2) ? n.hi[1] : n.lo[1]);
-    glm::vec3 p1 = back_point(fp, (k & 4) ? n.hi[2] : n.lo[2], (k & 8) ? n.hi[3] : n.lo[3]);
+    line_key& key = keys[k];
+    key.prim = prim, key.facepair = fp.index;
+    for (int i = 0; i < 4; ++i) key.x[i] = (k >> i & 1) ? n.hi[i] : n.lo[i];
+    if (const line_sample* s = cache.lines.find(key)) {
+      samples[k] = *s, known[k] = true;
+      if (!s->hit) return ip->reason = cell_reason::missed, std::move(ip);
+      continue;
+    }
+    known[k] = false;
+    glm::vec3 p0 = front_point(fp, key.x[0], key.x[1]), p1 = back_point(fp, key.x[2], key.x[3]);
     lines[k] = make_ray(p0, glm::normalize(p1 - p0));
     ++st.counts.eye;
     if (!hit_shape(w.shapes[size_t(prim)], w.polys, lines[k], std::numeric_limits<float>::infinity(), ts[k])) {
-      ip->reason = cell_reason::missed;
-      return ip;
+      cache.lines.insert(key, line_sample{});  // a miss, remembered for the siblings
+      return ip->reason = cell_reason::missed, std::move(ip);
     }
   }
+  ray_tree* saved_tree = st.tree;
   for (int k = 0; k < 16; ++k) {
+    if (known[k]) {
+      trees[k] = samples[k].tree;
+      continue;
+    }
     ray_tree& tree = scratch.trees[size_t(k)];
     tree.clear();
     st.tree = &tree;
-    if (ip->textured) st.root_tex_factor = &ip->tex[k], st.root_uv = &ip->uv[k];
-    glm::vec3 L = shade_hit(w, lines[k], hit{ts[k], prim}, 1, st);
+    line_sample& s = samples[k];
+    if (ip->textured) st.root_tex_factor = &s.tex, st.root_uv = &s.uv;
+    s.rad = shade_hit(w, lines[k], hit{ts[k], prim}, 1, st);
     st.root_tex_factor = nullptr, st.root_uv = nullptr;
-    if (ip->textured) L -= ip->tex[k] * sample_texture(w.sc.textures[size_t(m.texture)], ip->uv[k]);
-    ip->rad[k] = L;
+    if (ip->textured) s.rad -= s.tex * sample_texture(w.sc.textures[size_t(m.texture)], s.uv);
+    s.hit = true;
+    s.tree = cache.trees.canonical(tree);
+    if (s.tree) cache.lines.insert(keys[k], s);  // uncacheable trees stay private to this build
+    trees[k] = s.tree ? s.tree : &tree;
   }
   st.tree = saved_tree;
+  for (int k = 0; k < 16; ++k) ip->rad[k] = samples[k].rad, ip->tex[k] = samples[k].tex, ip->uv[k] = samples[k].uv;
+  // Canonical trees are equal exactly when they are the same object.
   for (int k = 1; k < 16; ++k) {
-    if (!same_topology(scratch.trees[0], scratch.trees[size_t(k)])) {
+    if (trees[k] != trees[0] && !same_topology(*trees[0], *trees[k])) {
       ip->reason = cell_reason::discontinuity;
       return ip;
     }
   }
   cell_query q;
-  q.w = &w, q.prim = prim, q.fp = &fp, q.lo = n.lo, q.hi = n.hi, q.tree = &scratch.trees[0], q.textured = ip->textured;
+  q.w = &w, q.prim = prim, q.fp = &fp, q.lo = n.lo, q.hi = n.hi, q.tree = trees[0], q.textured = ip->textured;
   cell_bound b = bound_cell(q);
   ip->reason = b.reason, ip->err = b.err, ip->err_tex = b.err_tex, ip->err_uv = b.err_uv;
   return ip;
@@ -206,7 +229,7 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
       continue;
     }
     ip = node->interp.load(std::memory_order_acquire);
-    if (!ip) ip = publish(*node, build_interpolant(w, h.prim, lt.fp, *node, st, scratch));
+    if (!ip) ip = publish(*node, build_interpolant(w, h.prim, lt.fp, *node, f.trees->samples(), st, scratch));
     if (!cell_accurate(*ip, f.p.eps) && can_split) {
       lt_node* kids = subdivide(*node);
       node = &kids[child_index(*node, x4)];

@@ -6,6 +6,7 @@ namespace epsray {
 
 facepair make_facepair(const bounds& box, int index) {
   facepair f;
+  f.index = index;
   f.axis = index / 2;
   f.u = (f.axis + 1) % 3;
   f.v = (f.axis + 2) % 3;

@@ -10,6 +10,7 @@
 namespace epsray {
 
 struct facepair {
+  int index = 4;            // 2 * axis + (rays travel towards -axis)
   int axis = 2;             // dominant axis of the rays it holds
   int u = 0, v = 1;         // the two other axes: a, c along u; b, d along v
   float front = 0, back = 0;  // axis coordinates of the planes (rays travel front -> back)

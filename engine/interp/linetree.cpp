@@ -57,7 +57,7 @@ linetree& linetree_set::get(int prim, int fi) {
 }
 
 size_t linetree_set::bytes() const {
-  size_t total = count_ * sizeof(std::array<std::atomic<linetree*>, 6>);
+  size_t total = count_ * sizeof(std::array<std::atomic<linetree*>, 6>) + samples_.bytes();
   std::function<size_t(const lt_node&)> walk = [&](const lt_node& n) -> size_t {
     size_t b = n.interp.load(std::memory_order_acquire) ? sizeof(interpolant) : 0;
     if (const lt_node* k = n.kids.load(std::memory_order_acquire)) {

@@ -12,6 +12,7 @@
 
 #include "interp/interpolant.h"
 #include "interp/line_space.h"
+#include "interp/sample_cache.h"
 
 namespace epsray {
 
@@ -47,12 +48,15 @@ class linetree_set {
   explicit linetree_set(const std::vector<bounds>& prim_bounds);
   ~linetree_set();
   linetree& get(int prim, int facepair_index);
-  size_t bytes() const;  // nodes and interpolants held
+  size_t bytes() const;  // nodes, interpolants and the caches
+  // Line samples and ray trees shared by every cell of every tree of this set.
+  sample_cache& samples() { return samples_; }
 
  private:
   std::vector<bounds> bounds_;  // a copy: small, and no lifetime tie to the world
   std::unique_ptr<std::array<std::atomic<linetree*>, 6>[]> trees_;
   size_t count_;
+  sample_cache samples_;
 };
 
 }  // namespace epsray

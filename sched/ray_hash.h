@@ -1,0 +1,92 @@
+// A lock-free, insert-only hash map of fixed capacity, for values that are a pure function
+// of their key (the radiance sample of a line, a canonical ray tree): whoever computes a
+// value first publishes it, later writers of the same key simply drop theirs, and a reader
+// that finds a slot still being written computes the value itself. So nothing observable
+// depends on which thread won, and no thread ever waits.
+//
+// Open addressing with linear probing; a slot is claimed by one compare-and-swap on its
+// 64-bit tag (the key's hash, never 0) and published by a release store of `ready`.
+// Knows nothing of rendering.
+#pragma once
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+namespace epsray {
+
+template <class Key, class Value, class Hash>
+class insert_only_map {
+ public:
+  // capacity is rounded up to a power of two; probes stop after `max_probe` slots.
+  explicit insert_only_map(std::size_t capacity, int max_probe = 32)
+      : mask_(round_up(capacity) - 1), max_probe_(max_probe), slots_(new slot[mask_ + 1]) {}
+
+  // The published value for key, or null.
+  const Value* find(const Key& key) const {
+    const std::uint64_t tag = tag_of(key);
+    for (int p = 0; p < max_probe_; ++p) {
+      const slot& s = slots_[(tag + std::uint64_t(p)) & mask_];
+      std::uint64_t t = s.tag.load(std::memory_order_acquire);
+      if (t == 0) return nullptr;
+      if (t == tag && s.ready.load(std::memory_order_acquire) && s.key == key) return &s.value;
+    }
+    return nullptr;
+  }
+
+  // Publishes value for key unless the key is present or being written, or the probe
+  // sequence is full. Returns the published value (this one or an earlier one) or null.
+  const Value* insert(const Key& key, const Value& value) {
+    const std::uint64_t tag = tag_of(key);
+    for (int p = 0; p < max_probe_; ++p) {
+      slot& s = slots_[(tag + std::uint64_t(p)) & mask_];
+      std::uint64_t t = s.tag.load(std::memory_order_acquire);
+      if (t == 0 && s.tag.compare_exchange_strong(t, tag, std::memory_order_acq_rel)) {
+        s.key = key;
+        s.value = value;
+        s.ready.store(1, std::memory_order_release);
+        size_.fetch_add(1, std::memory_order_relaxed);
+        return &s.value;
+      }
+      if (t == tag) {
+        if (!s.ready.load(std::memory_order_acquire)) return nullptr;  // being written: give up
+        if (s.key == key) return &s.value;
+      }
+    }
+    return nullptr;  // full around here: the caller keeps its value unshared
+  }
+
+  std::size_t size() const { return size_.load(std::memory_order_relaxed); }
+  std::size_t capacity() const { return mask_ + 1; }
+  std::size_t bytes() const { return capacity() * sizeof(slot); }
+
+  // Every published value, for owners that must free what the values point to.
+  template <class F>
+  void for_each(F&& f) const {
+    for (std::size_t i = 0; i <= mask_; ++i)
+      if (slots_[i].ready.load(std::memory_order_acquire)) f(slots_[i].value);
+  }
+
+ private:
+  struct slot {
+    std::atomic<std::uint64_t> tag{0};
+    std::atomic<std::uint8_t> ready{0};
+    Key key{};
+    Value value{};
+  };
+  static std::size_t round_up(std::size_t n) {
+    std::size_t c = 16;
+    while (c < n) c <<= 1;
+    return c;
+  }
+  static std::uint64_t tag_of(const Key& k) {
+    std::uint64_t h = Hash{}(k);
+    return h ? h : 1;
+  }
+  std::size_t mask_;
+  int max_probe_;
+  std::unique_ptr<slot[]> slots_;
+  std::atomic<std::size_t> size_{0};
+};
+
+}  // namespace epsray
