@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Extra CI configurations, each in its own build folder:
+#  - AddressSanitizer + UndefinedBehaviorSanitizer over the whole test suite;
+#  - ThreadSanitizer over the tests that race plain std::threads on epsray's lock-free
+#    structures (linetrees, the unique-ray hash). TBB-driven code is left out: Debian's
+#    oneTBB is not instrumented, so TSan cannot see its synchronisation (tools/tsan.supp).
+# Run after tools/setup.sh (which installs the packages).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs=$(nproc)
+
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DEPSRAY_SANITIZE=address,undefined \
+  -DEPSRAY_BENCH=OFF >/dev/null
+cmake --build build-asan -j"$jobs" >/dev/null
+UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \
+  ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900
+
+cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DEPSRAY_SANITIZE=thread \
+  -DEPSRAY_BENCH=OFF >/dev/null
+cmake --build build-tsan -j"$jobs" --target test_ray_hash test_interp >/dev/null
+export TSAN_OPTIONS="halt_on_error=1 suppressions=$PWD/tools/tsan.supp"
+build-tsan/tests/test_ray_hash
+build-tsan/tests/test_interp --gtest_filter='InterpConcurrency.*:Linetree.*'
