@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 
 namespace epsray {
 
@@ -16,6 +17,17 @@ long to_int(const std::string& flag, const std::string& v, long lo, long hi) {
   long x = std::strtol(v.c_str(), &end, 10);
   if (v.empty() || *end || errno == ERANGE || x < lo || x > hi)
     bad("bad " + flag + " '" + v + "': expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
+  return x;
+}
+
+double to_number(const std::string& flag, const std::string& v, double lo, double hi) {
+  char* end = nullptr;
+  double x = std::strtod(v.c_str(), &end);
+  if (v.empty() || *end || !std::isfinite(x) || x < lo || x > hi) {
+    std::ostringstream m;
+    m << "bad " << flag << " '" << v << "': expected a finite number from " << lo << " to " << hi;
+    bad(m.str());
+  }
   return x;
 }
 
@@ -63,14 +75,8 @@ cli_options parse_args(const std::vector<std::string>& a) {
     else if (f == "--mode") {
       const std::string& m = value();
       if (!parse_mode(m, o.mode)) bad("bad --mode '" + m + "': expected base, interp or full");
-    } else if (f == "--eps") {
-      const std::string& v = value();
-      char* end = nullptr;
-      double e = std::strtod(v.c_str(), &end);
-      if (v.empty() || *end || !std::isfinite(e) || e < 0 || e > 1e6)
-        bad("bad --eps '" + v + "': expected a finite number >= 0");
-      o.eps = float(e);
-    } else if (f == "--threads") o.threads = int(to_int("--threads", value(), 1, 1024));
+    } else if (f == "--eps") o.eps = float(to_number("--eps", value(), 0, 1e6));
+    else if (f == "--threads") o.threads = int(to_int("--threads", value(), 1, 1024));
     else if (f == "--tile-rows") o.tile_rows = int(to_int("--tile-rows", value(), 1, 16384));
     else if (f == "--png") {
       if (walk) o.png_flag = true;
@@ -82,14 +88,7 @@ cli_options parse_args(const std::vector<std::string>& a) {
     else if (f == "--out-dir" && walk) o.out_dir = value();
     else if (f == "--verify") o.verify = true;
     else if (f == "--reasons" && !walk) o.reasons = value();
-    else if (f == "--min-cell-pixels") {
-      const std::string& v = value();
-      char* end = nullptr;
-      double e = std::strtod(v.c_str(), &end);
-      if (v.empty() || *end || !std::isfinite(e) || e < 0 || e > 1e9)
-        bad("bad --min-cell-pixels '" + v + "': expected a number >= 0");
-      o.min_cell_pixels = float(e);
-    }
+    else if (f == "--min-cell-pixels") o.min_cell_pixels = float(to_number("--min-cell-pixels", value(), 0, 1e9));
     else if (f == "--quiet") o.quiet = true;
     else bad("unknown option '" + f + "' for " + o.command);
   }

@@ -107,24 +107,10 @@ vec2 surface_uv(const world& w, int prim, vec3 p) {
       float ang = std::atan2(glm::dot(q, e2), glm::dot(q, e1)) + pi;
       return {ang * 0.5f * (std::fabs(pr.r0) + std::fabs(pr.r1)), glm::dot(q, axis)};
     }
-    case prim_kind::polygon:
-    case prim_kind::patch: {
-      const vec3* v = &s.vertices[size_t(pr.first)];
-      vec3 eu = glm::normalize(v[1] - v[0]);
-      vec3 ev = glm::cross(polygon_normal(s, pr), eu);
-      return {glm::dot(p - v[0], eu), glm::dot(p - v[0], ev)};
-    }
-    case prim_kind::disk: {
-      vec3 e1 = perpendicular(pr.b), e2 = glm::cross(pr.b, e1);
-      return {glm::dot(p - pr.a, e1), glm::dot(p - pr.a, e2)};
-    }
-    case prim_kind::box: {
-      vec3 q = p - pr.a;
-      vec3 l{glm::dot(q, pr.frame[0]), glm::dot(q, pr.frame[1]), glm::dot(q, pr.frame[2])};
-      vec3 n = glm::abs(l / pr.b);
-      int i = n.x > n.y ? (n.x > n.z ? 0 : 2) : (n.y > n.z ? 1 : 2);
-      int j = (i + 1) % 3, k = (i + 2) % 3;
-      return {l[j] + pr.b[j], l[k] + pr.b[k]};
+    default: {  // planar: polygons, patches, disks, box faces
+      vec3 o, eu, ev;
+      planar_uv_frame(w, prim, p, o, eu, ev);
+      return {glm::dot(p - o, eu), glm::dot(p - o, ev)};
     }
   }
   return {0, 0};
