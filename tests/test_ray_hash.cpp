@@ -50,8 +50,11 @@ TEST(RayHash, RacingThreadsStoreEachKeyOnceWithItsValue) {
       // Every thread inserts every key, in its own order, so writers of one key collide.
       for (std::uint64_t i = 0; i < keys; ++i) {
         std::uint64_t k = 1 + (i * 7919 + std::uint64_t(t) * 104729) % keys;
-        if (const std::uint64_t* v = m.find(k)) EXPECT_EQ(*v, value_of(k));
-        else if (const std::uint64_t* p = m.insert(k, value_of(k))) EXPECT_EQ(*p, value_of(k));
+        if (const std::uint64_t* v = m.find(k)) {
+          EXPECT_EQ(*v, value_of(k));
+        } else if (const std::uint64_t* p = m.insert(k, value_of(k))) {
+          EXPECT_EQ(*p, value_of(k));
+        }
       }
     });
   for (std::thread& t : threads) t.join();
