@@ -37,8 +37,11 @@ TEST(RayHash, FullTableRefusesInsteadOfLooping) {
   for (std::uint64_t k = 1; k <= 100; ++k) stored += m.insert(k, value_of(k)) != nullptr;
   EXPECT_LE(stored, 16);
   EXPECT_EQ(m.size(), std::size_t(stored));
-  for (std::uint64_t k = 1; k <= 100; ++k)
-    if (const std::uint64_t* v = m.find(k)) EXPECT_EQ(*v, value_of(k));
+  for (std::uint64_t k = 1; k <= 100; ++k) {
+    if (const std::uint64_t* v = m.find(k)) {
+      EXPECT_EQ(*v, value_of(k));
+    }
+  }
 }
 
 TEST(RayHash, RacingThreadsStoreEachKeyOnceWithItsValue) {
