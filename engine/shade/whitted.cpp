@@ -12,6 +12,18 @@ namespace {
 
 vec3 reflect_dir(vec3 d, vec3 nf) { return glm::normalize(d - 2 * glm::dot(d, nf) * nf); }
 
+int shadow_blocker(const world& w, const ray& r, float dist, size_t light, trace_state& st) {
+  const bool cached = !st.tree && light < size_t(shadow_cache_lights);
+  if (cached) {
+    int last = st.last_blocker[light];
+    float t;
+    if (last >= 0 && hit_shape(w.shapes[size_t(last)], w.polys, r, dist, t)) return last;
+  }
+  int b = first_blocker(w, r, dist);
+  if (cached) st.last_blocker[light] = b;
+  return b;
+}
+
 }  // namespace
 
 vec3 radiance(const world& w, const ray& r, int depth, trace_state& st) {
@@ -65,7 +77,7 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
       ++st.counts.shadow;
       vec3 so = w.light_pos[j] - above;
       float dist = glm::length(so);
-      int blocker = dist > 0 ? first_blocker(w, make_ray(above, so / dist), dist) : -1;
+      int blocker = dist > 0 ? shadow_blocker(w, make_ray(above, so / dist), dist, j, st) : -1;
       status = blocker >= 0 ? w.info[size_t(blocker)].source : light_lit;
       if (blocker < 0) {
         float spec = 0;

@@ -19,9 +19,17 @@ struct ray_counts {
 };
 
 // Per-thread state of one trace: counters, and the ray tree to record (or null).
+constexpr int shadow_cache_lights = 8;
+
 struct trace_state {
   ray_counts counts;
   ray_tree* tree = nullptr;
+  // Per light, the primitive that last blocked a shadow ray: neighbouring points are mostly
+  // shadowed by the same one, so it is tested before a BVH walk. Only whether something
+  // blocks enters the radiance, so images cannot change; while a ray tree is recorded
+  // (which names the blocker) the cache is bypassed, so trees never depend on what this
+  // state traced before. One state per tile keeps it off other threads' tiles.
+  int last_blocker[shadow_cache_lights] = {-1, -1, -1, -1, -1, -1, -1, -1};
   // When set, shading at depth 1 stores the factor the root's texture multiplies
   // (A*Kd*C + sum of lit Ij*Kd*C*dot(Nf, Lj), texture excluded) and the root's uv, so an
   // interpolant can keep texture lookups out of the interpolated terms.
