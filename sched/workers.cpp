@@ -1,5 +1,7 @@
 #include "workers.h"
 
+#include <oneapi/tbb/parallel_for.h>
+
 #include <thread>
 
 namespace epsray {
@@ -13,5 +15,9 @@ workers::workers(int threads)
     : threads_(threads),
       limit_(tbb::global_control::max_allowed_parallelism, size_t(threads)),
       arena_(threads, 1) {}
+
+void workers::warm_up() {
+  run([&] { tbb::parallel_for(0, 64 * threads_, [](int) {}); });
+}
 
 }  // namespace epsray

@@ -14,6 +14,8 @@ class workers {
   void run(F&& f) {
     arena_.execute(std::forward<F>(f));
   }
+  // Starts every worker thread now (oneTBB starts them on first use, ~5-10 ms).
+  void warm_up();
 
  private:
   int threads_;
