@@ -65,7 +65,6 @@ inline bool traverse_bvh(const bvh& b, const ray& r, float& tmax, Leaf&& leaf) {
   };
   entry stack[bvh_stack_size];
   int top = 0;
-  stack[top++] = {0, 0, root_near};
   // Slab planes as (lo - o) * inv_d, not the FMA form lo * inv_d - o * inv_d: with a tiny
   // direction component o * inv_d is huge and the difference loses every digit.
   const __m128 ox = _mm_set1_ps(r.o.x), oy = _mm_set1_ps(r.o.y), oz = _mm_set1_ps(r.o.z);
@@ -73,51 +72,57 @@ inline bool traverse_bvh(const bvh& b, const ray& r, float& tmax, Leaf&& leaf) {
   const __m128 zero = _mm_setzero_ps();
   const bvh4_node* nodes = b.nodes.data();
   bool found = false;
-  while (top > 0) {
-    const entry e = stack[--top];
-    if (e.tnear > tmax) continue;  // a nearer hit was found since this was pushed
-    if (e.count) {
-      if (leaf(e.index, e.count, tmax)) {
+  entry cur{0, 0, root_near};  // the entry in hand: the nearest child is never pushed
+  for (;;) {
+    if (cur.count) {
+      if (leaf(cur.index, cur.count, tmax)) {
         found = true;
         if constexpr (any) return true;
       }
-      continue;
+    } else {
+      const bvh4_node& n = nodes[cur.index];
+      __m128 t0x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[0]), ox), ix);
+      __m128 t1x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[0]), ox), ix);
+      __m128 t0y = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[1]), oy), iy);
+      __m128 t1y = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[1]), oy), iy);
+      __m128 t0z = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[2]), oz), iz);
+      __m128 t1z = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[2]), oz), iz);
+      // Operand order keeps NaN lanes (0 * inf) from widening the interval.
+      __m128 tn = _mm_max_ps(_mm_max_ps(_mm_min_ps(t0x, t1x), _mm_min_ps(t0y, t1y)), _mm_max_ps(_mm_min_ps(t0z, t1z), zero));
+      __m128 tf = _mm_min_ps(_mm_min_ps(_mm_max_ps(t0x, t1x), _mm_max_ps(t0y, t1y)),
+                             _mm_min_ps(_mm_max_ps(t0z, t1z), _mm_set1_ps(tmax)));
+      // A few ulps of slack so rays grazing flat boxes (polygons) are kept.
+      int mask = _mm_movemask_ps(_mm_cmple_ps(tn, _mm_mul_ps(tf, _mm_set1_ps(1.00000024f)))) & ((1 << n.size) - 1);
+      if (mask) {
+        alignas(16) float tnear[4];
+        _mm_store_ps(tnear, tn);
+        if (!(mask & (mask - 1))) {  // one child hit: take it, no stack traffic
+          int k = __builtin_ctz(unsigned(mask));
+          cur = {n.child[k], n.count[k], tnear[k]};
+          continue;
+        }
+        entry hits[4];
+        int nh = 0;
+        for (int k = 0; k < 4; ++k) {
+          if (!(mask >> k & 1)) continue;
+          entry c{n.child[k], n.count[k], tnear[k]};
+          int j = nh++;
+          if constexpr (!any) {  // farthest first; any hit ends the walk, so order is moot
+            while (j > 0 && hits[j - 1].tnear < c.tnear) hits[j] = hits[j - 1], --j;
+          }
+          hits[j] = c;
+        }
+        for (int k = 0; k + 1 < nh; ++k) stack[top++] = hits[k];
+        cur = hits[nh - 1];  // the nearest (closest hit) or any (shadows)
+        continue;
+      }
     }
-    const bvh4_node& n = nodes[e.index];
-    __m128 t0x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[0]), ox), ix);
-    __m128 t1x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[0]), ox), ix);
-    __m128 t0y = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[1]), oy), iy);
-    __m128 t1y = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[1]), oy), iy);
-    __m128 t0z = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[2]), oz), iz);
-    __m128 t1z = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[2]), oz), iz);
-    // Operand order keeps NaN lanes (0 * inf) from widening the interval.
-    __m128 tn = _mm_max_ps(_mm_max_ps(_mm_min_ps(t0x, t1x), _mm_min_ps(t0y, t1y)), _mm_max_ps(_mm_min_ps(t0z, t1z), zero));
-    __m128 tf = _mm_min_ps(_mm_min_ps(_mm_max_ps(t0x, t1x), _mm_max_ps(t0y, t1y)),
-                           _mm_min_ps(_mm_max_ps(t0z, t1z), _mm_set1_ps(tmax)));
-    // A few ulps of slack so rays grazing flat boxes (polygons) are kept.
-    int mask = _mm_movemask_ps(_mm_cmple_ps(tn, _mm_mul_ps(tf, _mm_set1_ps(1.00000024f)))) & ((1 << n.size) - 1);
-    if (!mask) continue;
-    alignas(16) float tnear[4];
-    _mm_store_ps(tnear, tn);
-    if constexpr (any) {
-      // Any hit ends the walk, so order does not matter.
-      for (int k = 0; k < 4; ++k)
-        if (mask >> k & 1) stack[top++] = {n.child[k], n.count[k], tnear[k]};
-      continue;
-    }
-    // Push hit children farthest first so the nearest is popped next.
-    entry hits[4];
-    int nh = 0;
-    for (int k = 0; k < 4; ++k) {
-      if (!(mask >> k & 1)) continue;
-      entry c{n.child[k], n.count[k], tnear[k]};
-      int j = nh++;
-      while (j > 0 && hits[j - 1].tnear < c.tnear) hits[j] = hits[j - 1], --j;
-      hits[j] = c;
-    }
-    for (int k = 0; k < nh; ++k) stack[top++] = hits[k];
+    // Next entry from the stack, skipping those a nearer hit has made pointless.
+    do {
+      if (top == 0) return found;
+      cur = stack[--top];
+    } while (cur.tnear > tmax);
   }
-  return found;
 }
 
 }  // namespace epsray

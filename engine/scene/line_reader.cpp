@@ -62,11 +62,13 @@ bool looks_decimal(std::string_view w) {
 
 float line_reader::number(const text_line& l, size_t i, const char* what) const {
   std::string w(l.words.at(i));
-  std::string lower;
-  for (char c : w) lower += char(std::tolower(static_cast<unsigned char>(c)));
-  if (lower.find("nan") != std::string::npos || lower.find("inf") != std::string::npos)
-    fail(l.number, std::string(what) + ": '" + w + "' is not a finite number");
-  if (!looks_decimal(w)) fail(l.number, std::string(what) + ": '" + w + "' is not a number");
+  if (!looks_decimal(w)) {  // only then is it worth telling nan/inf from other words
+    std::string lower;
+    for (char c : w) lower += char(std::tolower(static_cast<unsigned char>(c)));
+    if (lower.find("nan") != std::string::npos || lower.find("inf") != std::string::npos)
+      fail(l.number, std::string(what) + ": '" + w + "' is not a finite number");
+    fail(l.number, std::string(what) + ": '" + w + "' is not a number");
+  }
   errno = 0;
   char* end = nullptr;
   double v = std::strtod(w.c_str(), &end);
