@@ -92,7 +92,7 @@ shape make_shape(const scene& s, const primitive& p, polygon_data& pd) {
       const vec3* v = &s.vertices[size_t(p.first)];
       if (p.count == 3) {
         out.kind = shape_kind::triangle;
-        out.tri = {v[0], v[1] - v[0], v[2] - v[0]};
+        out.tri = {v[0], v[1] - v[0], v[2] - v[0], polygon_normal(s, p)};
         break;
       }
       out.kind = shape_kind::polygon;

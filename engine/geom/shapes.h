@@ -16,7 +16,7 @@ using glm::vec2;
 enum class shape_kind : std::uint8_t { sphere, triangle, polygon, cone, disk, box };
 
 struct sphere_geom { vec3 c; float r; };              // r may be negative (flipped normal)
-struct triangle_geom { vec3 v0, e1, e2; };            // v1 = v0 + e1, v2 = v0 + e2
+struct triangle_geom { vec3 v0, e1, e2, n; };         // v1 = v0 + e1, v2 = v0 + e2; n unit
 struct polygon_geom {                                  // n-gon, even-odd rule in 2D
   vec3 n; float d;                                     // plane dot(n, p) = d
   std::int32_t first, count;                           // into polygon_data::verts

@@ -56,7 +56,7 @@ surface surface_at(const world& w, int prim, const ray& r, float t) {
   out.p = r.o + t * r.d;
   switch (sh.kind) {
     case shape_kind::sphere: out.ng = (out.p - sh.sphere.c) / sh.sphere.r; break;  // negative r flips
-    case shape_kind::triangle: out.ng = glm::cross(sh.tri.e1, sh.tri.e2); break;
+    case shape_kind::triangle: out.ng = sh.tri.n; break;
     case shape_kind::polygon: out.ng = sh.poly.n; break;
     case shape_kind::disk: out.ng = sh.disk.n; break;
     case shape_kind::cone: {
