@@ -308,3 +308,32 @@ TEST(ImageIo, SrgbByteFollowsThePiecewiseCurve) {
 
 }  // namespace
 }  // namespace epsray
+
+namespace epsray {
+namespace {
+
+TEST(ImageIo, SrgbLookupEqualsTheDirectCurveForEveryFloatSampled) {
+  // Every float in [0, 1] whose low 8 mantissa bits are zero (~4 million values), plus
+  // the neighbours of each threshold the table is built from, and values outside [0, 1].
+  for (std::uint32_t bits = 0; bits <= 0x3f800000u; bits += 256) {
+    float f;
+    std::memcpy(&f, &bits, 4);
+    ASSERT_EQ(srgb_byte(f), srgb_byte_exact(f)) << f;
+  }
+  for (float f : {-1.0f, -0.0f, 1.0f, 1.5f, 1e30f, std::numeric_limits<float>::quiet_NaN(),
+                  std::numeric_limits<float>::infinity()})
+    EXPECT_EQ(srgb_byte(f), srgb_byte_exact(f)) << f;
+  for (int k = 1; k < 256; ++k) {
+    // Bisect for the step to byte k and check both sides of it.
+    float lo = 0, hi = 1;
+    for (int i = 0; i < 64; ++i) {
+      float mid = 0.5f * (lo + hi);
+      (srgb_byte_exact(mid) >= k ? hi : lo) = mid;
+    }
+    for (float f : {std::nextafter(hi, 0.0f), hi, std::nextafter(hi, 2.0f)})
+      EXPECT_EQ(srgb_byte(f), srgb_byte_exact(f)) << "near step " << k;
+  }
+}
+
+}  // namespace
+}  // namespace epsray

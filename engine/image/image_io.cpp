@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
@@ -37,10 +38,41 @@ void write_atomically(const std::string& path, Body&& body) {
 
 }  // namespace
 
-unsigned char srgb_byte(float linear) {
+unsigned char srgb_byte_exact(float linear) {
   float x = std::isnan(linear) ? 0.0f : std::clamp(linear, 0.0f, 1.0f);
   float s = x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1 / 2.4f) - 0.055f;
   return static_cast<unsigned char>(std::lround(s * 255.0f));
+}
+
+namespace {
+
+// thresholds[k]: the smallest float whose byte is above k, found by bisection on the
+// float bit patterns (non-negative floats order like their bits), so the lookup below
+// returns exactly srgb_byte_exact for every input, with no pow per channel.
+struct srgb_table {
+  float thresholds[255];
+  srgb_table() {
+    for (int k = 0; k < 255; ++k) {
+      std::uint32_t lo = 0, hi = 0x3f800000u;  // bits of 0.0f and 1.0f
+      while (lo < hi) {
+        std::uint32_t mid = lo + (hi - lo) / 2;
+        float f;
+        std::memcpy(&f, &mid, 4);
+        if (srgb_byte_exact(f) > k) hi = mid;
+        else lo = mid + 1;
+      }
+      std::memcpy(&thresholds[k], &lo, 4);
+    }
+  }
+};
+
+}  // namespace
+
+unsigned char srgb_byte(float linear) {
+  static const srgb_table table;
+  if (!(linear > 0)) return 0;  // NaN too
+  return static_cast<unsigned char>(std::upper_bound(table.thresholds, table.thresholds + 255, linear) -
+                                    table.thresholds);
 }
 
 void write_pfm(const image& img, const std::string& path) {
@@ -82,6 +114,9 @@ void write_png(const image& img, const std::string& path) {
     }
     png_init_io(png, f);
     png_set_compression_level(png, 1);  // level 1: ~3x faster than the default, files ~20% larger
+    // One filter instead of libpng's per-row trial of all five: art room 800x600, 7 runs,
+    // median wall 175 ms -> 162 ms, file 230 KB -> 240 KB.
+    png_set_filter(png, 0, PNG_FILTER_UP);
     png_set_IHDR(png, info, png_uint_32(img.width), png_uint_32(img.height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);

@@ -13,5 +13,7 @@ image read_pfm(const std::string& path);
 
 // The 8-bit sRGB code of a linear value: clamped to [0, 1], piecewise curve, rounded.
 unsigned char srgb_byte(float linear);
+// The same computed directly (one pow per call); srgb_byte equals it for every float.
+unsigned char srgb_byte_exact(float linear);
 
 }  // namespace epsray
