@@ -118,15 +118,7 @@ TEST_P(SpdFrame, IdenticalForOneTwoEightThreads) {
   check_thread_independence(w, 96, 80);
 }
 
-INSTANTIATE_TEST_SUITE_P(Spd, SpdFrame,
-                         testing::Values("balls-s3", "gears-s2", "jacks-s3", "lattice-s4", "mount-s4", "rings-s3",
-                                         "shells-s2", "sombrero-s1", "teapot-s6", "tetra-s4", "tree-s8"),
-                         [](const testing::TestParamInfo<const char*>& i) {
-                           std::string n = i.param;
-                           for (char& c : n)
-                             if (c == '-') c = '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(Spd, SpdFrame, EPSRAY_SMALL_SPD_SCENES, test::spd_param_name);
 
 // The repository's own scenes (scenes/*.nff, scenes/tests/*.nff): they parse, render finite,
 // and do so identically on one and on eight threads.

@@ -620,15 +620,7 @@ TEST_P(SpdParse, CountsMatchTheFile) {
   EXPECT_FLOAT_EQ(s.view.angle, angle);
 }
 
-INSTANTIATE_TEST_SUITE_P(Spd, SpdParse,
-                         testing::Values("balls-s3", "gears-s2", "jacks-s3", "lattice-s4", "mount-s4", "rings-s3",
-                                         "shells-s2", "sombrero-s1", "teapot-s6", "tetra-s4", "tree-s8"),
-                         [](const testing::TestParamInfo<const char*>& i) {
-                           std::string n = i.param;
-                           for (char& c : n)
-                             if (c == '-') c = '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(Spd, SpdParse, EPSRAY_SMALL_SPD_SCENES, test::spd_param_name);
 
 }  // namespace
 }  // namespace epsray

@@ -30,6 +30,18 @@ inline fs::path spd_scene(const std::string& name) { return spd_dir() / (name + 
       GTEST_SKIP() << "SPD scene " << ::epsray::test::spd_scene(name) << " is absent"; \
   } while (0)
 
+// The small SPD scenes the parameterised tests run on, and their names as test names.
+#define EPSRAY_SMALL_SPD_SCENES                                                                          \
+  testing::Values("balls-s3", "gears-s2", "jacks-s3", "lattice-s4", "mount-s4", "rings-s3", "shells-s2", \
+                  "sombrero-s1", "teapot-s6", "tetra-s4", "tree-s8")
+
+inline std::string spd_param_name(const testing::TestParamInfo<const char*>& i) {
+  std::string n = i.param;
+  for (char& c : n)
+    if (c == '-') c = '_';
+  return n;
+}
+
 // A fresh folder under the system temp folder, removed with everything in it.
 class temp_dir {
  public:
