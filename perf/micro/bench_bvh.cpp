@@ -209,18 +209,20 @@ ray_set shadow_rays(const world& w, const ray_set& eye) {
 
 enum class spd_rays { eye, random, shadow };
 
-void bm_spd(benchmark::State& state, std::string name, bool closest, spd_rays which) {
-  const spd_data* d = nullptr;
+// The scene's data, or null after marking the benchmark skipped (no ../shared, bad file).
+const spd_data* spd_or_skip(benchmark::State& state, const std::string& name) {
   try {
-    d = spd_scene(name);
+    if (const spd_data* d = spd_scene(name)) return d;
+    state.SkipWithError("no ../shared");
   } catch (const std::exception& e) {
     state.SkipWithError(e.what());
-    return;
   }
-  if (!d) {
-    state.SkipWithError("no ../shared");
-    return;
-  }
+  return nullptr;
+}
+
+void bm_spd(benchmark::State& state, std::string name, bool closest, spd_rays which) {
+  const spd_data* d = spd_or_skip(state, name);
+  if (!d) return;
   const ray_set& set = which == spd_rays::eye ? d->eye : which == spd_rays::random ? d->random : d->shadow;
   if (set.rays.empty()) {
     state.SkipWithError("no rays of this kind in the scene");
@@ -230,17 +232,8 @@ void bm_spd(benchmark::State& state, std::string name, bool closest, spd_rays wh
 }
 
 void bm_whitted(benchmark::State& state, std::string name) {
-  const spd_data* d = nullptr;
-  try {
-    d = spd_scene(name);
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
-  if (!d) {
-    state.SkipWithError("no ../shared");
-    return;
-  }
+  const spd_data* d = spd_or_skip(state, name);
+  if (!d) return;
   trace_state st;
   run_ray_set(state, d->eye, [&](const ray& r, float) {
     vec3 c = trace_eye(d->w, r, st);
