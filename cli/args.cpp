@@ -50,7 +50,8 @@ std::string usage_text() {
          "       epsray info\n"
          "extra: --tile-rows N (rows per tile), --quiet (no summary on stdout),\n"
          "       --reasons OUT.png (render: the error-coded image), --verify (render too),\n"
-         "       --min-cell-pixels P (no linetree cell is split into children covering fewer pixels)\n";
+         "       --min-cell-pixels P (no linetree cell is split into children covering fewer pixels),\n"
+         "       --split 4|16 (halve the axes a failure points at, or always all four)\n";
 }
 
 cli_options parse_args(const std::vector<std::string>& a) {
@@ -89,7 +90,11 @@ cli_options parse_args(const std::vector<std::string>& a) {
     else if (f == "--verify") o.verify = true;
     else if (f == "--reasons" && !walk) o.reasons = value();
     else if (f == "--min-cell-pixels") o.min_cell_pixels = float(to_number("--min-cell-pixels", value(), 0, 1e9));
-    else if (f == "--quiet") o.quiet = true;
+    else if (f == "--split") {
+      const std::string& v = value();
+      if (v != "4" && v != "16") bad("bad --split '" + v + "': expected 4 or 16");
+      o.four_way = v == "4";
+    } else if (f == "--quiet") o.quiet = true;
     else bad("unknown option '" + f + "' for " + o.command);
   }
   if (o.command != "info" && o.scene.empty()) bad(o.command + " needs a SCENE file");

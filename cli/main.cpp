@@ -74,6 +74,7 @@ int run_render(const cli_options& o) {
   fp.mode = o.mode;
   fp.interp.eps = o.eps;
   fp.interp.min_cell_pixels = o.min_cell_pixels;
+  fp.interp.four_way = o.four_way;
   fp.trees = trees.get();
   fp.tile_rows = o.tile_rows;
   fp.reasons = !o.reasons.empty();

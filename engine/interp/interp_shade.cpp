@@ -18,6 +18,7 @@ constexpr float floor_radiance = 1.0f / 255;  // whitted.md 6
 float cell_pixels(const camera& cam, const facepair& fp, const lt_node& n) {
   float x0[2] = {INFINITY, INFINITY}, x1[2] = {-INFINITY, -INFINITY};
   float y0[2] = {INFINITY, INFINITY}, y1[2] = {-INFINITY, -INFINITY};
+  bool behind = false;
   for (int face = 0; face < 2; ++face) {
     for (int k = 0; k < 4; ++k) {
       float a = (k & 1) ? n.hi[2 * face] : n.lo[2 * face];
@@ -25,7 +26,12 @@ float cell_pixels(const camera& cam, const facepair& fp, const lt_node& n) {
       glm::vec3 p = face == 0 ? front_point(fp, a, b) : back_point(fp, a, b);
       glm::vec3 q = p - cam.origin;
       float z = glm::dot(q, cam.w);
-      if (z <= 0) return std::numeric_limits<float>::infinity();
+      // An eye ray's line meets a face behind the eye too (a floor's front plane often lies
+      // behind the camera): the line through the eye and p is the one through -q. A face
+      // crossing the eye's plane has no bounded projection.
+      if (k == 0) behind = z < 0;
+      if (z == 0 || (z < 0) != behind) return std::numeric_limits<float>::infinity();
+      if (behind) q = -q, z = -z;
       float px = glm::dot(q, cam.r) / (z * cam.step), py = glm::dot(q, cam.u) / (z * cam.step);
       x0[face] = std::min(x0[face], px), x1[face] = std::max(x1[face], px);
       y0[face] = std::min(y0[face], py), y1[face] = std::max(y1[face], py);
@@ -34,6 +40,28 @@ float cell_pixels(const camera& cam, const facepair& fp, const lt_node& n) {
   float w = std::min(x1[0], x1[1]) - std::max(x0[0], x0[1]);
   float h = std::min(y1[0], y1[1]) - std::max(y0[0], y0[1]);
   return w > 0 && h > 0 ? w * h : 0;
+}
+
+// The axes a pattern over the 16 corners depends on (cls[k]: the class of corner k).
+// Classes that change with (a, c) only mean an edge running across the cell along (b, d),
+// which halving (a, c) alone isolates at half the cost of halving all four axes.
+std::uint8_t axes_of_pattern(const std::uint8_t cls[16]) {
+  auto depends_only_on = [&](unsigned axes) {
+    for (unsigned k = 0; k < 16; ++k)
+      if (cls[k] != cls[k & axes]) return false;
+    return true;
+  };
+  if (depends_only_on(split_ac)) return split_ac;
+  if (depends_only_on(split_bd)) return split_bd;
+  return split_all;
+}
+
+// Failures that say nothing of direction (an occluder in a shaft): keep cells near square
+// by halving the pair of axes that spans more.
+std::uint8_t axes_by_extent(const lt_node& n) {
+  float ac = std::max(n.hi[0] - n.lo[0], n.hi[2] - n.lo[2]);
+  float bd = std::max(n.hi[1] - n.lo[1], n.hi[3] - n.lo[3]);
+  return ac > 1.5f * bd ? split_ac : (bd > 1.5f * ac ? split_bd : split_all);
 }
 
 // The 16 extremal lines of a cell, traced against the object alone (occlusion in front of
@@ -50,24 +78,34 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
   bool known[16];
   ray lines[16];
   float ts[16];
-  // All 16 hits first: cells near a silhouette are common and need no shading to reject.
+  std::uint8_t cls[16];
+  bool any_miss = false;
+  // All 16 hits first: cells near a silhouette are common and need no shading to reject;
+  // which corners miss tells which axes to halve.
   for (int k = 0; k < 16; ++k) {
     line_key& key = keys[k];
     key.prim = prim, key.facepair = fp.index;
     for (int i = 0; i < 4; ++i) key.x[i] = (k >> i & 1) ? n.hi[i] : n.lo[i];
     if (const line_sample* s = cache.lines.find(key)) {
       samples[k] = *s, known[k] = true;
-      if (!s->hit) return ip->reason = cell_reason::missed, std::move(ip);
+      cls[k] = s->hit ? 0 : 1;
+      any_miss |= !s->hit;
       continue;
     }
     known[k] = false;
     glm::vec3 p0 = front_point(fp, key.x[0], key.x[1]), p1 = back_point(fp, key.x[2], key.x[3]);
     lines[k] = make_ray(p0, glm::normalize(p1 - p0));
     ++st.counts.eye;
-    if (!hit_shape(w.shapes[size_t(prim)], w.polys, lines[k], std::numeric_limits<float>::infinity(), ts[k])) {
+    const bool hit = hit_shape(w.shapes[size_t(prim)], w.polys, lines[k], std::numeric_limits<float>::infinity(), ts[k]);
+    cls[k] = hit ? 0 : 1;
+    if (!hit) {
+      any_miss = true;
       cache.lines.insert(key, line_sample{});  // a miss, remembered for the siblings
-      return ip->reason = cell_reason::missed, std::move(ip);
     }
+  }
+  if (any_miss) {
+    ip->reason = cell_reason::missed, ip->split = axes_of_pattern(cls);
+    return ip;
   }
   ray_tree* saved_tree = st.tree;
   for (int k = 0; k < 16; ++k) {
@@ -90,17 +128,28 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
   }
   st.tree = saved_tree;
   for (int k = 0; k < 16; ++k) ip->rad[k] = samples[k].rad, ip->tex[k] = samples[k].tex, ip->uv[k] = samples[k].uv;
-  // Canonical trees are equal exactly when they are the same object.
-  for (int k = 1; k < 16; ++k) {
-    if (trees[k] != trees[0] && !same_topology(*trees[0], *trees[k])) {
-      ip->reason = cell_reason::discontinuity;
-      return ip;
+  // Canonical trees are equal exactly when they are the same object. Corner k's class is
+  // the first corner with its topology.
+  bool differ = false;
+  for (int k = 0; k < 16; ++k) {
+    cls[k] = std::uint8_t(k);
+    for (int j = 0; j < k; ++j) {
+      if (cls[j] == j && (trees[j] == trees[k] || same_topology(*trees[j], *trees[k]))) {
+        cls[k] = std::uint8_t(j);
+        break;
+      }
     }
+    differ |= cls[k] != 0;
+  }
+  if (differ) {
+    ip->reason = cell_reason::discontinuity, ip->split = axes_of_pattern(cls);
+    return ip;
   }
   cell_query q;
   q.w = &w, q.prim = prim, q.fp = &fp, q.lo = n.lo, q.hi = n.hi, q.tree = trees[0], q.textured = ip->textured;
   cell_bound b = bound_cell(q);
   ip->reason = b.reason, ip->err = b.err, ip->err_tex = b.err_tex, ip->err_uv = b.err_uv;
+  ip->split = b.reason == cell_reason::valid || b.reason == cell_reason::nonlinear ? b.split : axes_by_extent(n);
   return ip;
 }
 
@@ -218,22 +267,26 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
   const interpolant* ip = nullptr;
   for (;;) {
     if (lt_node* kids = node->kids.load(std::memory_order_acquire)) {
-      node = &kids[child_index(*node, x4)];
+      node = child_at(*node, kids, x4);
       continue;
     }
+    // Children of a 16-way split cover a quarter of the cell's pixels, of a 4-way split half.
     const float pixels = cell_pixels(cam, lt.fp, *node);
     const bool can_split = node->depth < f.p.max_depth && pixels >= 4 * f.p.min_cell_pixels;
     if (can_split && pixels > f.p.max_cell_pixels && !node->interp.load(std::memory_order_acquire)) {
       // Far larger on screen than any cell that proves valid: not worth 16 lines and a bound.
-      node = &subdivide(*node)[child_index(*node, x4)];
+      node = child_at(*node, subdivide(*node, split_all), x4);
       continue;
     }
     ip = node->interp.load(std::memory_order_acquire);
     if (!ip) ip = publish(*node, build_interpolant(w, h.prim, lt.fp, *node, f.trees->samples(), st, scratch));
-    if (!cell_accurate(*ip, f.p.eps) && can_split) {
-      lt_node* kids = subdivide(*node);
-      node = &kids[child_index(*node, x4)];
-      continue;
+    if (!cell_accurate(*ip, f.p.eps)) {
+      const std::uint8_t axes = f.p.four_way ? ip->split : std::uint8_t(split_all);
+      const bool halves = axes != split_all && pixels >= 2 * f.p.min_cell_pixels;
+      if (node->depth < f.p.max_depth && (can_split || halves)) {
+        node = child_at(*node, subdivide(*node, axes), x4);
+        continue;
+      }
     }
     break;
   }

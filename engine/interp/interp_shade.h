@@ -14,9 +14,10 @@ namespace epsray {
 
 struct interp_params {
   float eps = 0.05f;
-  float min_cell_pixels = 16;  // no subdivision into children covering fewer pixels
+  float min_cell_pixels = 8;   // no subdivision into children covering fewer pixels
   float max_cell_pixels = 4096;  // larger cells are subdivided without building an interpolant
-  int max_depth = 10;          // linetree levels below the root
+  int max_depth = 16;          // halvings of any axis below the root (floats keep ~7 digits)
+  bool four_way = true;        // halve only the axes the failure points at (section 8.6)
 };
 
 // How a pixel got its radiance, and why an interpolant was not used.

@@ -6,6 +6,10 @@
 
 namespace epsray {
 
+// Which axes a subdivision halves, bit i for axis i of (a, b, c, d). Halving (a, c) or
+// (b, d) alone gives 4 children (the paper's 4-way split, section 8.6); all four, 16.
+enum : std::uint8_t { split_ac = 0x5, split_bd = 0xA, split_all = 0xF };
+
 // Why a cell may not be interpolated; the colours of the error-coded image (--reasons).
 enum class cell_reason : std::uint8_t {
   valid,          // grey-blue: interpolated
@@ -19,6 +23,7 @@ enum class cell_reason : std::uint8_t {
 struct interpolant {
   cell_reason reason = cell_reason::valid;
   bool textured = false;
+  std::uint8_t split = split_all;  // the axes worth halving when the cell is not accurate
   glm::vec3 rad[16];       // radiance; textured: the part the texture does not multiply
   glm::vec3 tex[16];       // textured: the factor the root's texture multiplies
   glm::vec2 uv[16];        // textured: the root's texture coordinates

@@ -1,5 +1,6 @@
 #include "interp/linetree.h"
 
+#include <algorithm>
 #include <functional>
 
 namespace epsray {
@@ -9,17 +10,23 @@ lt_node::~lt_node() {
   delete interp.load(std::memory_order_relaxed);
 }
 
-lt_node* subdivide(lt_node& n) {
+lt_node* subdivide(lt_node& n, std::uint8_t axes) {
   lt_node* kids = n.kids.load(std::memory_order_acquire);
   if (kids) return kids;
-  lt_node* made = new lt_node[16];
-  for (int k = 0; k < 16; ++k) {
-    for (int i = 0; i < 4; ++i) {
+  const int count = child_count(axes);
+  lt_node* made = new lt_node[size_t(count)];
+  for (int k = 0; k < count; ++k) {
+    for (int i = 0, bit = 0; i < 4; ++i) {
+      made[k].lo[i] = n.lo[i], made[k].hi[i] = n.hi[i];
+      made[k].level[i] = n.level[i];
+      if (!(axes >> i & 1)) continue;
+      made[k].level[i] = std::uint8_t(n.level[i] + 1);
+      made[k].depth = std::max(made[k].depth, made[k].level[i]);
       float mid = 0.5f * (n.lo[i] + n.hi[i]);
-      made[k].lo[i] = (k >> i & 1) ? mid : n.lo[i];
-      made[k].hi[i] = (k >> i & 1) ? n.hi[i] : mid;
+      (k >> bit & 1 ? made[k].lo[i] : made[k].hi[i]) = mid;
+      ++bit;
     }
-    made[k].depth = n.depth + 1;
+    made[k].parent_axes = axes;
   }
   if (n.kids.compare_exchange_strong(kids, made, std::memory_order_acq_rel)) return made;
   delete[] made;  // lost the race: the winner's children are identical
@@ -61,8 +68,9 @@ size_t linetree_set::bytes() const {
   std::function<size_t(const lt_node&)> walk = [&](const lt_node& n) -> size_t {
     size_t b = n.interp.load(std::memory_order_acquire) ? sizeof(interpolant) : 0;
     if (const lt_node* k = n.kids.load(std::memory_order_acquire)) {
-      b += 16 * sizeof(lt_node);
-      for (int i = 0; i < 16; ++i) b += walk(k[i]);
+      const int count = child_count(k[0].parent_axes);
+      b += size_t(count) * sizeof(lt_node);
+      for (int i = 0; i < count; ++i) b += walk(k[i]);
     }
     return b;
   };

@@ -7,6 +7,8 @@
 #pragma once
 #include <array>
 #include <atomic>
+#include <bit>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -18,27 +20,41 @@ namespace epsray {
 
 struct lt_node {
   float lo[4], hi[4];
-  int depth = 0;
-  std::atomic<lt_node*> kids{nullptr};              // 16 children, created together
+  std::uint8_t level[4] = {0, 0, 0, 0};  // halvings of each axis from the root
+  std::uint8_t depth = 0;        // the most halvings of any axis
+  std::uint8_t parent_axes = 0;  // the axes the parent halved to make this node and its siblings
+  std::atomic<lt_node*> kids{nullptr};  // 4 or 16 children, created together
   std::atomic<interpolant*> interp{nullptr};
   ~lt_node();
 };
+
+inline int child_count(std::uint8_t axes) { return 1 << std::popcount(unsigned(axes)); }
 
 struct linetree {
   facepair fp;
   lt_node root;
 };
 
-// Index of the child of `n` holding the point (a, b, c, d): one interval test per axis.
-inline int child_index(const lt_node& n, const float x[4]) {
-  int k = 0;
-  for (int i = 0; i < 4; ++i)
-    if (x[i] >= 0.5f * (n.lo[i] + n.hi[i])) k |= 1 << i;
+// Index among children that halve `axes` of the child of `n` holding the point (a, b, c, d):
+// one interval test per halved axis.
+inline int child_index(const lt_node& n, std::uint8_t axes, const float x[4]) {
+  int k = 0, bit = 0;
+  for (int i = 0; i < 4; ++i) {
+    if (!(axes >> i & 1)) continue;
+    if (x[i] >= 0.5f * (n.lo[i] + n.hi[i])) k |= 1 << bit;
+    ++bit;
+  }
   return k;
 }
 
-// Creates the 16 children of n (halving every axis) unless another thread already did.
-lt_node* subdivide(lt_node& n);
+// The child of n holding x, given n's published children.
+inline lt_node* child_at(const lt_node& n, lt_node* kids, const float x[4]) {
+  return &kids[child_index(n, kids[0].parent_axes, x)];
+}
+
+// Creates the children of n halving `axes` unless another thread already made children
+// (a pure function of the cell, so the same ones); returns the published children.
+lt_node* subdivide(lt_node& n, std::uint8_t axes = split_all);
 // Publishes `made` as n's interpolant unless another thread did first; returns the winner.
 const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made);
 

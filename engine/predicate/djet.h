@@ -126,13 +126,16 @@ djet_t<T> pow(const djet_t<T>& f, double k) {
   return compose(f, pow(f.v, k), pow(f.v, k - 1) * k, pow(f.v, k - 2) * (k * (k - 1)));
 }
 
-// The interpolation bound of one quantity: sum_i h_i^2 / 8 * max |f_ii|.
+// The interpolation bound of one quantity: sum_i h_i^2 / 8 * max |f_ii|. Each axis' term
+// is added to per_axis (which axes to halve when the bound is too large).
 template <class T>
-double interpolation_error(const djet_t<T>& f, const double h[4]) {
+double interpolation_error(const djet_t<T>& f, const double h[4], double per_axis[4] = nullptr) {
   double e = 0;
   for (int i = 0; i < 4; ++i) {
     double m = std::max(std::fabs(lo(f.dd[i])), std::fabs(hi(f.dd[i])));
-    e += h[i] * h[i] / 8 * m;
+    double term = h[i] * h[i] / 8 * m;
+    e += term;
+    if (per_axis) per_axis[i] += term;
   }
   return std::isnan(e) ? INFINITY : e;
 }

@@ -62,16 +62,17 @@ bool positive(const djet& x) { return lo(x.v) > 0; }
 bool negative(const djet& x) { return hi(x.v) < 0; }
 
 // Can a segment leaving primitive q's surface (towards its facing side) meet q again?
-// Never for a plane; never for a convex solid left from the outside.
+// Never for a plane; never for a convex solid left from the outside. An open cone is the
+// side of a convex frustum, so the same holds for it.
 bool cannot_reenter(shape_kind k, bool from_outside) {
   if (k == shape_kind::triangle || k == shape_kind::polygon || k == shape_kind::disk) return true;
-  return (k == shape_kind::sphere || k == shape_kind::box) && from_outside;
+  return (k == shape_kind::sphere || k == shape_kind::box || k == shape_kind::cone) && from_outside;
 }
 
 struct surface_family {
   djet t;
   jv p, ng;            // hit points; outward geometric normals
-  bool from_outside = true;  // for spheres and boxes: the rays arrive from outside the solid
+  bool from_outside = true;  // spheres, boxes, cones: every ray arrives from outside the solid
 };
 
 struct evaluator {
@@ -224,6 +225,7 @@ struct evaluator {
     jv radial = rel - constant(axis) * z;
     jv n = radial / (z * k + r0) - constant(axis) * k;
     s.ng = n * (1.0 / std::sqrt(1.0 + k * k));  // the caller flips it for negative radii
+    s.from_outside = negative(dot(d, s.ng));       // proven for every ray, or not claimed
     return true;
   }
 
@@ -297,17 +299,72 @@ struct evaluator {
     return reject(cell_reason::discontinuity);
   }
 
-  // Proves that every shadow segment from the box `from` to light point `lp` meets the convex
+  // Proves that every shadow segment from the box `from` to light point `lp` meets the
   // primitive `blocker`: the shadow volume of a convex solid seen from a point is convex, so
   // its containing the 8 corners of `from` suffices.
   bool blocked_everywhere(int blocker, const bounds& from, glm::vec3 lp) {
     const shape& sh = w.shapes[size_t(blocker)];
+    if (sh.kind == shape_kind::triangle || sh.kind == shape_kind::polygon || sh.kind == shape_kind::disk)
+      return planar_blocked_everywhere(blocker, from, dv(lp));
+    if (sh.kind == shape_kind::cone && !cone_entered_by_side(sh.cone, from, w.prim_bounds[size_t(blocker)], dv(lp)))
+      return false;
     for (int c = 0; c < 8; ++c) {
       glm::dvec3 o{(c & 1) ? from.hi.x : from.lo.x, (c & 2) ? from.hi.y : from.lo.y, (c & 4) ? from.hi.z : from.lo.z};
       glm::dvec3 seg = dv(lp) - o;
       if (!segment_blocked(sh, o, seg)) return false;
     }
     return true;
+  }
+
+  // A planar blocker, convex or not: seen from the light, the box projects onto the plane
+  // as the convex hull of its corners' projections, so that hull's bounding rectangle lying
+  // inside the polygon (or disk) proves every segment crosses it.
+  bool planar_blocked_everywhere(int blocker, const bounds& from, glm::dvec3 L) {
+    const double m = 1e-5;
+    const primitive& pr = w.sc.prims[size_t(w.info[size_t(blocker)].source)];
+    glm::dvec3 n, anchor;
+    if (pr.kind == prim_kind::disk) n = dv(pr.b), anchor = dv(pr.a);
+    else n = dv(polygon_normal(w.sc, pr)), anchor = dv(w.sc.vertices[size_t(pr.first)]);
+    double dl = glm::dot(n, L - anchor);
+    bounds cross;
+    for (int c = 0; c < 8; ++c) {
+      glm::dvec3 o{(c & 1) ? from.hi.x : from.lo.x, (c & 2) ? from.hi.y : from.lo.y, (c & 4) ? from.hi.z : from.lo.z};
+      double d0 = glm::dot(n, o - anchor);
+      if (!(d0 * dl < 0)) return false;  // every corner strictly on the far side from the light
+      double t = d0 / (d0 - dl);
+      if (!(t > m && t < 1 - m)) return false;
+      glm::dvec3 p = o + t * (L - o);
+      for (int i = 0; i < 3; ++i) {
+        cross.lo[i] = std::min(cross.lo[i], std::nextafter(float(p[i]), -INFINITY));
+        cross.hi[i] = std::max(cross.hi[i], std::nextafter(float(p[i]), INFINITY));
+      }
+    }
+    return inside_planar(pr, cross, n);
+  }
+
+  // An open cone blocks a segment that meets its solid frustum C when the segment can only
+  // enter C through the side. From a light beside C (axial coordinate inside (0, h)) that
+  // always holds: entering through a cap plane would take a second crossing of that plane.
+  // From a light beyond a cap, a segment entering through that cap leaves C by the side
+  // unless it also passes the other cap, which no line from the light does when the cap's
+  // shadow misses the other cap; the box must then lie outside C.
+  static bool cone_entered_by_side(const cone_geom& g, const bounds& from, const bounds& cone_box, glm::dvec3 L) {
+    const double m = 1e-5, h = double(g.h);
+    glm::dvec3 rel = L - dv(g.base), axis = dv(g.axis);
+    double zl = glm::dot(rel, axis);
+    if (zl > m * h && zl < (1 - m) * h) return true;
+    bool separated = false;
+    for (int i = 0; i < 3; ++i) separated |= from.hi[i] < cone_box.lo[i] || from.lo[i] > cone_box.hi[i];
+    if (!separated) return false;
+    double rho = glm::length(rel - axis * zl);
+    double r0 = double(g.r0), r1 = double(g.r0) + double(g.k) * h;
+    double near_r, far_r, s;
+    if (zl > h * (1 + m)) near_r = r1, far_r = r0, s = zl / (zl - h);       // the top cap faces the light
+    else if (zl < -m * h) near_r = r0, far_r = r1, s = (h - zl) / (-zl);  // the bottom cap does
+    else return false;
+    // The near cap's shadow on the far cap's plane: a disk of radius s near_r whose centre is
+    // rho (s - 1) off the axis.
+    return rho * (s - 1) > (s * near_r + far_r) * (1 + 1e-4) + m * h;
   }
 
   static bool segment_blocked(const shape& sh, glm::dvec3 o, glm::dvec3 seg) {
@@ -358,7 +415,37 @@ struct evaluator {
         glm::dvec3 q = o + t * seg - c;
         return t > m && t < 1 - m && glm::dot(q, q) < double(sh.disk.r2) * (1 - 2 * m);
       }
-      default: return false;  // open cones and concave polygons: no convexity argument
+      case shape_kind::cone: {
+        // Does the segment meet the (convex) solid frustum, shrunken by the margin? Whether
+        // that means meeting the open side is cone_entered_by_side's business.
+        const cone_geom& g = sh.cone;
+        glm::dvec3 axis = dv(g.axis), base = dv(g.base);
+        double h = double(g.h), k = double(g.k), r0 = double(g.r0);
+        double zlo = m * h, zhi = (1 - m) * h;
+        glm::dvec3 q = o - base;
+        double qa = glm::dot(q, axis), da = glm::dot(seg, axis);
+        double t0 = 0, t1 = 1;
+        if (da == 0) {
+          if (qa <= zlo || qa >= zhi) return false;
+        } else {
+          double a = (zlo - qa) / da, b = (zhi - qa) / da;
+          if (a > b) std::swap(a, b);
+          t0 = std::max(t0, a), t1 = std::min(t1, b);
+        }
+        if (!(t0 < t1)) return false;
+        // g(t) = |radial|^2 - (shrunken radius)^2 = A t^2 + B t + C; negative inside.
+        glm::dvec3 qp = q - axis * qa, dp = seg - axis * da;
+        double R0 = (r0 + k * qa) * (1 - m), S = k * da * (1 - m);
+        double A = glm::dot(dp, dp) - S * S, B = 2 * (glm::dot(qp, dp) - R0 * S), C = glm::dot(qp, qp) - R0 * R0;
+        auto gf = [&](double t) { return (A * t + B) * t + C; };
+        double best = std::min(gf(t0), gf(t1));
+        if (A > 0) {
+          double tv = -B / (2 * A);
+          if (tv > t0 && tv < t1) best = std::min(best, gf(tv));
+        }
+        return best < 0;
+      }
+      default: return false;  // concave polygons: no convexity argument
     }
   }
 
@@ -511,12 +598,16 @@ cell_bound bound_cell(const cell_query& q) {
   }
   double h[4];
   for (int i = 0; i < 4; ++i) h[i] = double(q.hi[i]) - double(q.lo[i]);
+  double axis[4] = {0, 0, 0, 0};
   for (int ch = 0; ch < 3; ++ch) {
-    out.err[ch] = float(interpolation_error(L[ch], h));
-    if (q.textured) out.err_tex[ch] = float(interpolation_error(tf[ch], h));
+    out.err[ch] = float(interpolation_error(L[ch], h, axis));
+    if (q.textured) out.err_tex[ch] = float(interpolation_error(tf[ch], h, axis));
   }
   if (q.textured)
     for (int k = 0; k < 2; ++k) out.err_uv[k] = float(interpolation_error(uv[k], h));
+  // The pair whose second-order terms dominate is the one worth halving.
+  const double ac = axis[0] + axis[2], bd = axis[1] + axis[3];
+  out.split = ac > 3 * bd ? split_ac : (bd > 3 * ac ? split_bd : split_all);
   auto finite3 = [](glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
   if (!finite3(out.err) || !finite3(out.err_tex) || !std::isfinite(out.err_uv.x) || !std::isfinite(out.err_uv.y))
     out.reason = cell_reason::nonlinear;

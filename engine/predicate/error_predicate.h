@@ -23,6 +23,7 @@ struct cell_query {
 
 struct cell_bound {
   cell_reason reason = cell_reason::valid;
+  std::uint8_t split = split_all;  // the axes to halve if the bound is too large
   glm::vec3 err{0}, err_tex{0};
   glm::vec2 err_uv{0};
 };
