@@ -2,13 +2,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <memory>
-#include <unistd.h>
 
 #include "accel/world.h"
 #include "args.h"
+#include "common.h"
+#include "walk.h"
 #include "image/image_io.h"
 #include "scene/input_error.h"
 #include "scene/nff.h"
@@ -19,18 +19,6 @@
 using namespace epsray;
 
 namespace {
-
-// Output files must be writable before any work starts: bad input writes nothing.
-void check_writable(const std::string& file, const char* flag) {
-  if (file.empty()) return;
-  std::filesystem::path dir = std::filesystem::path(file).parent_path();
-  if (dir.empty()) dir = ".";
-  if (!std::filesystem::is_directory(dir) || ::access(dir.c_str(), W_OK) != 0)
-    throw usage_error(std::string("epsray: bad ") + flag + " '" + file + "': folder '" + dir.string() +
-                      "' does not exist or is not writable");
-  if (std::filesystem::is_directory(file))
-    throw usage_error(std::string("epsray: bad ") + flag + " '" + file + "': is a folder");
-}
 
 int run_info() {
   std::cout << "epsray 0.1\nhardware threads: " << hardware_threads() << "\n";
@@ -52,11 +40,7 @@ int run_render(const cli_options& o) {
   check_writable(o.pfm, "--pfm");
   check_writable(o.stats, "--stats");
   check_writable(o.reasons, "--reasons");
-  if (o.command != "render")
-    throw std::runtime_error("'" + o.command + "' is not implemented yet (walkthroughs and the viewer come later)");
-  if (o.mode == render_mode::full)
-    throw std::runtime_error("--mode full is not implemented yet (reprojection comes with walkthroughs); "
-                             "use --mode interp or base");
+  reject_unbuilt(o);
 
   int width = o.size ? o.size->first : sc.view.width;
   int height = o.size ? o.size->second : sc.view.height;
@@ -70,23 +54,14 @@ int run_render(const cli_options& o) {
   // Linetrees and their sample caches (tens of MB) only where a mode uses them.
   std::unique_ptr<linetree_set> trees;
   if (o.mode != render_mode::base) trees = std::make_unique<linetree_set>(w.prim_bounds);
-  frame_params fp;
-  fp.mode = o.mode;
-  fp.interp.eps = o.eps;
-  fp.interp.min_cell_pixels = o.min_cell_pixels;
-  fp.interp.four_way = o.four_way;
-  fp.trees = trees.get();
-  fp.tile_rows = o.tile_rows;
-  fp.reasons = !o.reasons.empty();
+  const frame_params fp = make_frame_params(o, trees.get());
   const camera cam = make_camera(view, width, height);
   frame_result fr = render_frame(pool, w, cam, fp);
   double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   verify_result vr;
   if (o.verify) vr = verify_frame(pool, w, cam, fr.img, o.eps);
 
-  for (const glm::vec3& p : fr.img.pixels)
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      throw std::runtime_error("internal error: a pixel is not finite; nothing written");
+  check_finite(fr.img);
 
   if (!o.pfm.empty()) write_pfm(fr.img, o.pfm);
   if (!o.png.empty()) write_png(fr.img, o.png);
@@ -132,6 +107,7 @@ int main(int argc, char** argv) {
   try {
     cli_options o = parse_args(args);
     if (o.command == "info") return run_info();
+    if (o.command == "walk") return run_walk(o);
     return run_render(o);
   } catch (const input_error& e) {
     std::cerr << e.what() << "\n";

@@ -231,7 +231,17 @@ INSTANTIATE_TEST_SUITE_P(
         bad_flags{"two_scenes", {"render", "good.nff", "good.nff"}, "unexpected argument"},
         bad_flags{"missing_scene_file", {"render", "none.nff", "--mode", "base", "--png", "out.png"}, "none.nff"},
         bad_flags{"missing_path_file", render_args({"--path", "none.path"}), "none.path"},
-        bad_flags{"bad_path_file_other_frame", render_args({"--path", "bad.path", "--frame", "0"}), "bad.path:5: "}),
+        bad_flags{"bad_path_file_other_frame", render_args({"--path", "bad.path", "--frame", "0"}), "bad.path:5: "},
+        bad_flags{"walk_without_path", {"walk", "good.nff", "--mode", "base"}, "--path"},
+        bad_flags{"walk_bad_path_file", {"walk", "good.nff", "--path", "bad.path", "--out-dir", "f", "--png"},
+                  "bad.path:5: "},
+        bad_flags{"walk_out_dir_is_a_file", {"walk", "good.nff", "--path", "two.path", "--out-dir", "good.nff", "--png"},
+                  "--out-dir"},
+        bad_flags{"walk_out_dir_parent_missing",
+                  {"walk", "good.nff", "--path", "two.path", "--out-dir", "no-such-dir/f", "--png"}, "no-such-dir"},
+        bad_flags{"walk_png_without_out_dir", {"walk", "good.nff", "--path", "two.path", "--png"}, "--out-dir"},
+        bad_flags{"walk_bad_scene_file", {"walk", "none.nff", "--path", "two.path", "--out-dir", "f", "--png"},
+                  "none.nff"}),
     [](const testing::TestParamInfo<bad_flags>& i) { return std::string(i.param.name); });
 
 // --- good runs -----------------------------------------------------------------------------------
@@ -342,6 +352,52 @@ TEST_F(Cli, InfoAndHelp) {
   r = run({"--help"});
   EXPECT_TRUE(r.exited && r.code == 0) << r;
   EXPECT_NE(r.out.find("usage"), std::string::npos);
+}
+
+// --- walk ---------------------------------------------------------------------------------------
+
+TEST_F(Cli, WalkWritesEveryFrameStatsAndVerifies) {
+  write("good.nff", good_scene);
+  write("two.path", two_frames);
+  const proc_result r = run({"walk", "good.nff", "--path", "two.path", "--mode", "interp", "--size", "40x30",
+                             "--out-dir", "frames", "--png", "--pfm", "--stats", "w.json", "--verify", "--quiet"});
+  ASSERT_TRUE(r.exited) << r;
+  ASSERT_EQ(r.code, 0) << r;
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(work.path() / "frames"))
+    files.push_back(e.path().filename().string());
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"frame_0000.pfm", "frame_0000.png", "frame_0001.pfm", "frame_0001.png"}));
+  const auto j = nlohmann::json::parse(test::read_file(work.file("w.json")));
+  ASSERT_EQ(j["frames"].size(), 2u);
+  for (int k = 0; k < 2; ++k) {
+    const auto& f = j["frames"][size_t(k)];
+    EXPECT_EQ(f["index"], k);
+    EXPECT_EQ(f["verify"]["violations"], 0);
+    EXPECT_EQ(f["pixels"]["fast"].get<int>() + f["pixels"]["interp"].get<int>() + f["pixels"]["base"].get<int>(),
+              40 * 30);
+  }
+}
+
+TEST_F(Cli, WalkFramesMatchRendersOfThePathAndIgnoreThreads) {
+  write("good.nff", good_scene);
+  write("two.path", two_frames);
+  // base: a walk's frame k is the render of --frame k, bit for bit.
+  proc_result r = run({"walk", "good.nff", "--path", "two.path", "--mode", "base", "--size", "32x24", "--out-dir",
+                       "b", "--pfm", "--quiet"});
+  ASSERT_EQ(r.code, 0) << r;
+  r = run({"render", "good.nff", "--path", "two.path", "--frame", "1", "--mode", "base", "--size", "32x24", "--pfm",
+           "one.pfm", "--quiet"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_EQ(test::read_file(work.file("b/frame_0001.pfm")), test::read_file(work.file("one.pfm")));
+  // interp: linetrees carried between frames give the same images on 1 and 2 threads.
+  for (const char* t : {"1", "2"}) {
+    r = run({"walk", "good.nff", "--path", "two.path", "--mode", "interp", "--size", "32x24", "--threads", t,
+             "--out-dir", std::string("t") + t, "--pfm", "--quiet"});
+    ASSERT_EQ(r.code, 0) << r;
+  }
+  for (const char* f : {"frame_0000.pfm", "frame_0001.pfm"})
+    EXPECT_EQ(test::read_file(work.file(std::string("t1/") + f)), test::read_file(work.file(std::string("t2/") + f)));
 }
 
 // --- modes and commands still being built: never a crash, and a failure says why -----------

@@ -181,6 +181,39 @@ TEST(InterpMode, ArtRoomStaysWithinEpsilon) {
   expect_bounded(w, 0.05f, 320, 240, 0.1);
 }
 
+TEST(InterpMode, WalkKeepsTheBoundWithLinetreesCarriedBetweenFrames) {
+  // The camera circles the scene; cells built for earlier cameras are looked up, split
+  // further or reused by later ones, and every frame must still be within epsilon.
+  for (const char* name : {"glass", "shapes"}) {
+    SCOPED_TRACE(name);
+    world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/tests/" + name + ".nff"));
+    linetree_set trees(w.prim_bounds);
+    workers pool(2);
+    frame_params p;
+    p.mode = render_mode::interp;
+    p.interp.eps = 0.05f;
+    p.trees = &trees;
+    const camera_view v0 = w.sc.view;
+    std::uint64_t first_eye = 0, last_eye = 0, interpolated = 0;
+    for (int k = 0; k < 5; ++k) {
+      camera_view v = v0;
+      const float turn = 0.04f * float(k);  // radians about the vertical through 'at'
+      glm::vec3 rel = v0.from - v0.at;
+      v.from = v0.at + glm::vec3(std::cos(turn) * rel.x - std::sin(turn) * rel.z, rel.y,
+                                 std::sin(turn) * rel.x + std::cos(turn) * rel.z);
+      const camera cam = make_camera(v, 160, 120);
+      frame_result fr = render_frame(pool, w, cam, p);
+      verify_result vr = verify_frame(pool, w, cam, fr.img, p.interp.eps);
+      EXPECT_EQ(vr.violations, 0u) << "frame " << k << ", max error " << vr.max_rel_err;
+      interpolated += fr.pixels.interp;
+      (k == 0 ? first_eye : last_eye) = fr.rays.eye;
+    }
+    EXPECT_GT(interpolated, 0u);
+    // Later frames reuse most interpolants: far fewer lines traced than the first.
+    EXPECT_LT(last_eye, first_eye);
+  }
+}
+
 TEST(InterpMode, SpdScenesStayWithinEpsilon) {
   for (const char* name : {"balls-s3", "teapot-s6", "rings-s3"}) {
     if (!std::filesystem::is_regular_file(test::spd_scene(name))) GTEST_SKIP() << "no ../shared";

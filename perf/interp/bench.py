@@ -1,13 +1,16 @@
 #!/usr/bin/env python3
 """Interpolants against the base tracer, side by side (issue 3's benchmark).
 
-For each scene: one `--mode base` render and one `--mode interp --verify` render per
-epsilon, interleaved, R repetitions each; medians of frame time. Reports the share of
-pixels interpolated, max and 99.9th-percentile relative error, pixels over epsilon,
-linetree memory, and the cost of an interpolated pixel relative to a traced one:
+For each scene and epsilon, interleaved, R repetitions each: a `--mode base` walk and a
+`--mode interp --verify` walk over a still camera (the scene's own view, 3 frames).
+Frame 0 of the interp walk is cold (every interpolant is built); frames 1-2 are warm
+(the linetrees of frame 0 are looked up, as when the viewer's camera rests). Reports the
+share of pixels interpolated, max and 99.9th-percentile relative error, pixels over
+epsilon, linetree memory, and the cost of an interpolated pixel relative to a traced one:
     c = (T_interp - n_base * t_px) / n_interp / t_px,   t_px = T_base / (W * H)
 (base-traced pixels in interp mode are charged at the base rate; the rest of the
-frame's time is the interpolate path: visibility ray, lookup, building, the predicate).
+frame's time is the interpolate path: visibility ray, lookup, and when cold building and
+the predicate), once for the cold frame and once for the warm ones.
 
     perf/interp/bench.py [--size 800x600] [--eps 0.01,0.02,0.05,0.1,0.2] [--reps 1]
                          [--threads N] [--out perf/results/interp.md] [SCENE ...]
@@ -27,10 +30,23 @@ SPD = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd")
 DEFAULT_SPD = ["balls-s3", "teapot-s6", "rings-s3", "tetra-s4", "mount-s4"]
 
 
-def render(exe, scene, mode, size, threads, eps=None, verify=False):
+def view_line(scene):
+    """The scene's own camera as a path line (whitted.md 8): from, at, up, angle."""
+    v = {"from": "0 0 0", "at": "0 0 -1", "up": "0 1 0", "angle": "45"}
+    with open(scene) as f:
+        for line in f:
+            k = line.split()
+            if k and k[0] in v:
+                v[k[0]] = " ".join(k[1:4]) if k[0] != "angle" else k[1]
+    return "%s  %s  %s  %s" % (v["from"], v["at"], v["up"], v["angle"])
+
+
+def walk(exe, scene, mode, size, threads, eps=None, verify=False, frames=3):
     with tempfile.TemporaryDirectory() as d:
-        stats = os.path.join(d, "s.json")
-        cmd = [exe, "render", scene, "--mode", mode, "--size", size, "--threads", str(threads),
+        stats, path = os.path.join(d, "s.json"), os.path.join(d, "still.path")
+        with open(path, "w") as f:
+            f.write((view_line(scene) + "\n") * frames)
+        cmd = [exe, "walk", scene, "--path", path, "--mode", mode, "--size", size, "--threads", str(threads),
                "--quiet", "--stats", stats]
         if eps is not None:
             cmd += ["--eps", str(eps)]
@@ -59,33 +75,36 @@ def main():
     for scene in scenes:
         name = os.path.splitext(os.path.basename(scene))[0]
         for eps in eps_list:
-            tb, ti, last = [], [], None
+            tb, tc, tw, last = [], [], [], None
             for _ in range(a.reps):  # interleaved: base, interp, base, interp, ...
-                tb.append(render(a.exe, scene, "base", a.size, a.threads)["frames"][0]["ms"])
-                last = render(a.exe, scene, "interp", a.size, a.threads, eps, verify=True)
-                ti.append(last["frames"][0]["ms"])
+                tb += [f["ms"] for f in walk(a.exe, scene, "base", a.size, a.threads)["frames"]]
+                last = walk(a.exe, scene, "interp", a.size, a.threads, eps, verify=True)
+                tc.append(last["frames"][0]["ms"])
+                tw += [f["ms"] for f in last["frames"][1:]]
             f = last["frames"][0]
-            base_ms, interp_ms = statistics.median(tb), statistics.median(ti)
+            base_ms, cold_ms, warm_ms = statistics.median(tb), statistics.median(tc), statistics.median(tw)
             n = w * h
             n_int, n_base = f["pixels"]["interp"], f["pixels"]["base"]
             t_px = base_ms / n
-            cost = (interp_ms - n_base * t_px) / n_int / t_px if n_int else float("nan")
-            rows.append((name, eps, base_ms, interp_ms, base_ms / interp_ms, n_int / n, cost,
-                         f["verify"]["max_rel_err"], f["verify"]["p999_rel_err"], f["verify"]["violations"],
+            cost = lambda t: (t - n_base * t_px) / n_int / t_px if n_int else float("nan")
+            worst = max(last["frames"], key=lambda g: g["verify"]["max_rel_err"])["verify"]
+            over = sum(g["verify"]["violations"] for g in last["frames"])
+            rows.append((name, eps, base_ms, cold_ms, warm_ms, base_ms / warm_ms, n_int / n, cost(cold_ms),
+                         cost(warm_ms), worst["max_rel_err"], f["verify"]["p999_rel_err"], over,
                          f["memory_bytes"] / 1e6))
-            print("%-12s eps %-5g base %8.1f ms interp %8.1f ms speedup %5.2f interp %5.1f%% cost %6.2f "
-                  "max %.4f p99.9 %.4f over %d mem %.1f MB" % (rows[-1][0], *rows[-1][1:4], rows[-1][4],
-                                                            100 * rows[-1][5], *rows[-1][6:]), flush=True)
+            print("%-12s eps %-5g base %7.1f ms cold %8.1f ms warm %7.1f ms base/warm %5.2f interp %5.1f%% "
+                  "cost cold %6.2f warm %5.2f max %.4f p99.9 %.4f over %d mem %.1f MB" %
+                  (*rows[-1][:6], 100 * rows[-1][6], *rows[-1][7:]), flush=True)
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
     with open(a.out, "w") as out:
         out.write("# Interpolants vs base (%s, %d threads, %d rep(s), median frame ms; %s)\n\n" %
                   (a.size, a.threads, a.reps, time.strftime("%Y-%m-%d %H:%M")))
-        out.write("| scene | eps | base ms | interp ms | base/interp | interpolated | cost of an interp pixel "
-                  "(x traced) | max err | 99.9% err | pixels over eps | memory MB |\n")
-        out.write("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
+        out.write("| scene | eps | base ms | interp cold ms | interp warm ms | base/warm | interpolated | "
+                  "interp pixel cost, cold (x traced) | warm | max err | 99.9% err | pixels over eps | memory MB |\n")
+        out.write("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
         for r in rows:
-            out.write("| %s | %g | %.1f | %.1f | %.2f | %.1f%% | %.2f | %.4f | %.4f | %d | %.1f |\n" %
-                      (r[0], r[1], r[2], r[3], r[4], 100 * r[5], r[6], r[7], r[8], r[9], r[10]))
+            out.write("| %s | %g | %.1f | %.1f | %.1f | %.2f | %.1f%% | %.2f | %.2f | %.4f | %.4f | %d | %.1f |\n" %
+                      (r[0], r[1], r[2], r[3], r[4], r[5], 100 * r[6], r[7], r[8], r[9], r[10], r[11], r[12]))
     print("wrote", a.out)
     return 0
 

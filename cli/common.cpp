@@ -1,0 +1,72 @@
+#include "common.h"
+
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+#include <unistd.h>
+
+#include "scene/input_error.h"
+
+namespace epsray {
+
+namespace {
+
+bool writable_folder(const std::filesystem::path& dir) {
+  return std::filesystem::is_directory(dir) && ::access(dir.c_str(), W_OK) == 0;
+}
+
+}  // namespace
+
+void check_writable(const std::string& file, const char* flag) {
+  if (file.empty()) return;
+  std::filesystem::path dir = std::filesystem::path(file).parent_path();
+  if (dir.empty()) dir = ".";
+  if (!writable_folder(dir))
+    throw usage_error(std::string("epsray: bad ") + flag + " '" + file + "': folder '" + dir.string() +
+                      "' does not exist or is not writable");
+  if (std::filesystem::is_directory(file))
+    throw usage_error(std::string("epsray: bad ") + flag + " '" + file + "': is a folder");
+}
+
+void check_out_dir(const std::string& dir) {
+  if (dir.empty()) return;
+  std::filesystem::path p(dir);
+  if (std::filesystem::exists(p)) {
+    if (!writable_folder(p))
+      throw usage_error("epsray: bad --out-dir '" + dir + "': not a writable folder");
+    return;
+  }
+  std::filesystem::path parent = p.parent_path();
+  if (parent.empty()) parent = ".";
+  if (!writable_folder(parent))
+    throw usage_error("epsray: bad --out-dir '" + dir + "': folder '" + parent.string() +
+                      "' does not exist or is not writable");
+}
+
+void reject_unbuilt(const cli_options& o) {
+  if (o.command == "view")
+    throw std::runtime_error("'view' is not implemented yet (the viewer comes later); use render or walk");
+  if (o.mode == render_mode::full)
+    throw std::runtime_error("--mode full is not implemented yet (reprojection and span filling come later); "
+                             "use --mode interp or base");
+}
+
+void check_finite(const image& img) {
+  for (const glm::vec3& p : img.pixels)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw std::runtime_error("internal error: a pixel is not finite; nothing written");
+}
+
+frame_params make_frame_params(const cli_options& o, linetree_set* trees) {
+  frame_params fp;
+  fp.mode = o.mode;
+  fp.interp.eps = o.eps;
+  fp.interp.min_cell_pixels = o.min_cell_pixels;
+  fp.interp.four_way = o.four_way;
+  fp.trees = trees;
+  fp.tile_rows = o.tile_rows;
+  fp.reasons = !o.reasons.empty();
+  return fp;
+}
+
+}  // namespace epsray
