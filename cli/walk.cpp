@@ -68,7 +68,7 @@ int run_walk(const cli_options& o) {
     const camera cam = make_camera(path.frames[size_t(k)], width, height);
     frame_result fr = render_frame(pool, w, cam, fp);
     check_finite(fr.img);
-    frame_record r{k, fr.ms, fr.pixels, fr.rays, fr.memory_bytes};
+    frame_record r{k, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.path_ms};
     if (o.verify) {
       verify_result vr = verify_frame(pool, w, cam, fr.img, o.eps);
       r.verified = true, r.max_rel_err = vr.max_rel_err, r.p999_rel_err = vr.p999_rel_err;

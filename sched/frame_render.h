@@ -26,6 +26,12 @@ struct pixel_counts {
   }
 };
 
+// Thread time spent per path, summed over threads (the paper's Table 1 divides these by
+// the pixels of each path).
+struct path_times {
+  double fast = 0, interp = 0, base = 0;  // ms
+};
+
 struct frame_params {
   render_mode mode = render_mode::base;
   interp_params interp;            // eps and the cost model, for interp and full
@@ -41,6 +47,7 @@ struct frame_result {
   pixel_counts pixels;
   ray_counts rays;
   double ms = 0;
+  path_times path_ms;
   std::uint64_t memory_bytes = 0;  // image, ray trees, linetrees
   ray_tree_store trees;
 };

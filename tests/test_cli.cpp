@@ -376,6 +376,9 @@ TEST_F(Cli, WalkWritesEveryFrameStatsAndVerifies) {
     EXPECT_EQ(f["verify"]["violations"], 0);
     EXPECT_EQ(f["pixels"]["fast"].get<int>() + f["pixels"]["interp"].get<int>() + f["pixels"]["base"].get<int>(),
               40 * 30);
+    // Thread time per path: present, and positive exactly where the path shaded pixels.
+    for (const char* path : {"fast", "interp", "base"})
+      EXPECT_EQ(f["path_ms"][path].get<double>() > 0, f["pixels"][path].get<int>() > 0) << path;
   }
 }
 

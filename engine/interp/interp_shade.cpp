@@ -127,7 +127,11 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     trees[k] = s.tree ? s.tree : &tree;
   }
   st.tree = saved_tree;
-  for (int k = 0; k < 16; ++k) ip->rad[k] = samples[k].rad, ip->tex[k] = samples[k].tex, ip->uv[k] = samples[k].uv;
+  ip->rad_min = glm::vec3(INFINITY);
+  for (int k = 0; k < 16; ++k) {
+    ip->rad[k] = samples[k].rad, ip->tex[k] = samples[k].tex, ip->uv[k] = samples[k].uv;
+    ip->rad_min = glm::min(ip->rad_min, samples[k].rad);
+  }
   // Canonical trees are equal exactly when they are the same object. Corner k's class is
   // the first corner with its topology.
   bool differ = false;
@@ -153,16 +157,19 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
   return ip;
 }
 
+bool strictly_inside(const lt_node& n, const float x[4]) {
+  for (int i = 0; i < 4; ++i)
+    if (!(x[i] > n.lo[i] && x[i] < n.hi[i])) return false;
+  return true;
+}
+
 // Is the proven bound within epsilon for every line of the cell? Decides subdivision, so
 // it depends on the cell alone. Textured cells defer to the per-pixel test.
 bool cell_accurate(const interpolant& ip, float eps) {
   if (ip.reason != cell_reason::valid) return false;
   if (ip.textured) return true;
-  for (int c = 0; c < 3; ++c) {
-    float lo = INFINITY;
-    for (int k = 0; k < 16; ++k) lo = std::min(lo, ip.rad[k][c]);
-    if (!(ip.err[c] <= eps * std::max(lo - ip.err[c], floor_radiance))) return false;
-  }
+  for (int c = 0; c < 3; ++c)
+    if (!(ip.err[c] <= eps * std::max(ip.rad_min[c] - ip.err[c], floor_radiance))) return false;
   return true;
 }
 
@@ -264,21 +271,24 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
     }
   }
   lt_node* node = &lt.root;
+  if (scratch.hint_tree == &lt && strictly_inside(*scratch.hint, x4)) node = scratch.hint;
   const interpolant* ip = nullptr;
   for (;;) {
     if (lt_node* kids = node->kids.load(std::memory_order_acquire)) {
       node = child_at(*node, kids, x4);
       continue;
     }
+    scratch.hint_tree = &lt, scratch.hint = node;
+    ip = node->interp.load(std::memory_order_acquire);
+    if (ip && cell_accurate(*ip, f.p.eps)) break;  // the common case once built: no cost model
     // Children of a 16-way split cover a quarter of the cell's pixels, of a 4-way split half.
     const float pixels = cell_pixels(cam, lt.fp, *node);
     const bool can_split = node->depth < f.p.max_depth && pixels >= 4 * f.p.min_cell_pixels;
-    if (can_split && pixels > f.p.max_cell_pixels && !node->interp.load(std::memory_order_acquire)) {
+    if (can_split && pixels > f.p.max_cell_pixels && !ip) {
       // Far larger on screen than any cell that proves valid: not worth 16 lines and a bound.
       node = child_at(*node, subdivide(*node, split_all), x4);
       continue;
     }
-    ip = node->interp.load(std::memory_order_acquire);
     if (!ip) ip = publish(*node, build_interpolant(w, h.prim, lt.fp, *node, f.trees->samples(), st, scratch));
     if (!cell_accurate(*ip, f.p.eps)) {
       const std::uint8_t axes = f.p.four_way ? ip->split : std::uint8_t(split_all);

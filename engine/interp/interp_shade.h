@@ -34,6 +34,11 @@ enum class pixel_reason : std::uint8_t {
 // Per-thread scratch for building interpolants: reused, never reallocated per ray.
 struct interp_scratch {
   std::array<ray_tree, 16> trees;
+  // The last leaf found: neighbouring pixels mostly fall in the same cell, so the lookup
+  // starts there when the line lies strictly inside it (the same leaf a descent from the
+  // root would reach).
+  const linetree* hint_tree = nullptr;
+  lt_node* hint = nullptr;
 };
 
 struct interp_frame {

@@ -27,6 +27,7 @@ struct interpolant {
   glm::vec3 rad[16];       // radiance; textured: the part the texture does not multiply
   glm::vec3 tex[16];       // textured: the factor the root's texture multiplies
   glm::vec2 uv[16];        // textured: the root's texture coordinates
+  glm::vec3 rad_min{0};    // the smallest corner radiance per channel
   glm::vec3 err{0};        // proven bound of |f - interpolated f| for rad, per channel
   glm::vec3 err_tex{0};    // ... for tex
   glm::vec2 err_uv{0};     // ... for uv
