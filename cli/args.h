@@ -25,7 +25,7 @@ struct cli_options {
   int threads = 0;  // 0: all hardware threads
   int tile_rows = 0;
   std::string png, pfm, stats, out_dir, reasons;
-  float min_cell_pixels = 8;
+  float min_cell_pixels = 16;
   bool four_way = true;
   bool png_flag = false, pfm_flag = false, verify = false, quiet = false;
 };

@@ -46,9 +46,6 @@ void check_out_dir(const std::string& dir) {
 void reject_unbuilt(const cli_options& o) {
   if (o.command == "view")
     throw std::runtime_error("'view' is not implemented yet (the viewer comes later); use render or walk");
-  if (o.mode == render_mode::full)
-    throw std::runtime_error("--mode full is not implemented yet (reprojection and span filling come later); "
-                             "use --mode interp or base");
 }
 
 void check_finite(const image& img) {
@@ -57,13 +54,14 @@ void check_finite(const image& img) {
       throw std::runtime_error("internal error: a pixel is not finite; nothing written");
 }
 
-frame_params make_frame_params(const cli_options& o, linetree_set* trees) {
+frame_params make_frame_params(const cli_options& o, linetree_set* trees, reprojection_state* reproj) {
   frame_params fp;
   fp.mode = o.mode;
   fp.interp.eps = o.eps;
   fp.interp.min_cell_pixels = o.min_cell_pixels;
   fp.interp.four_way = o.four_way;
   fp.trees = trees;
+  fp.reproj = reproj;
   fp.tile_rows = o.tile_rows;
   fp.reasons = !o.reasons.empty();
   return fp;

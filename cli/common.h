@@ -13,10 +13,10 @@ namespace epsray {
 void check_writable(const std::string& file, const char* flag);
 // An output folder: an existing folder, or one that can be made in a writable parent.
 void check_out_dir(const std::string& dir);
-// Modes and commands not built yet fail before any work, with a clear message (exit 1).
+// Commands not built yet fail before any work, with a clear message (exit 1).
 void reject_unbuilt(const cli_options& o);
 // A NaN or infinite pixel is an internal error: nothing is written.
 void check_finite(const image& img);
-frame_params make_frame_params(const cli_options& o, linetree_set* trees);
+frame_params make_frame_params(const cli_options& o, linetree_set* trees, reprojection_state* reproj);
 
 }  // namespace epsray

@@ -53,8 +53,9 @@ int run_render(const cli_options& o) {
   world w = make_world(std::move(sc));
   // Linetrees and their sample caches (tens of MB) only where a mode uses them.
   std::unique_ptr<linetree_set> trees;
+  reprojection_state reproj;  // full: the cells carried to the next frame
   if (o.mode != render_mode::base) trees = std::make_unique<linetree_set>(w.prim_bounds);
-  const frame_params fp = make_frame_params(o, trees.get());
+  const frame_params fp = make_frame_params(o, trees.get(), &reproj);
   const camera cam = make_camera(view, width, height);
   frame_result fr = render_frame(pool, w, cam, fp);
   double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -70,7 +71,7 @@ int run_render(const cli_options& o) {
     run_record r;
     r.scene = o.scene, r.mode = mode_name(o.mode), r.width = width, r.height = height, r.threads = threads;
     r.eps = o.eps;
-    frame_record fr_rec{o.frame.value_or(0), fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.path_ms};
+    frame_record fr_rec{o.frame.value_or(0), fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.path_ms, fr.reproject_ms};
     fr_rec.verified = o.verify;
     fr_rec.max_rel_err = vr.max_rel_err, fr_rec.p999_rel_err = vr.p999_rel_err, fr_rec.violations = vr.violations;
     r.frames.push_back(fr_rec);

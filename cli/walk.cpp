@@ -56,8 +56,9 @@ int run_walk(const cli_options& o) {
   auto t0 = std::chrono::steady_clock::now();
   world w = make_world(std::move(sc));
   std::unique_ptr<linetree_set> trees;
+  reprojection_state reproj;  // full: the cells carried to the next frame
   if (o.mode != render_mode::base) trees = std::make_unique<linetree_set>(w.prim_bounds);
-  const frame_params fp = make_frame_params(o, trees.get());
+  const frame_params fp = make_frame_params(o, trees.get(), &reproj);
 
   run_record rec;
   rec.scene = o.scene, rec.mode = mode_name(o.mode), rec.width = width, rec.height = height, rec.threads = threads;
@@ -68,7 +69,7 @@ int run_walk(const cli_options& o) {
     const camera cam = make_camera(path.frames[size_t(k)], width, height);
     frame_result fr = render_frame(pool, w, cam, fp);
     check_finite(fr.img);
-    frame_record r{k, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.path_ms};
+    frame_record r{k, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.path_ms, fr.reproject_ms};
     if (o.verify) {
       verify_result vr = verify_frame(pool, w, cam, fr.img, o.eps);
       r.verified = true, r.max_rel_err = vr.max_rel_err, r.p999_rel_err = vr.p999_rel_err;

@@ -2,10 +2,12 @@
 
 #include <oneapi/tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <vector>
 
+#include "reproject/reproject.h"
 #include "shade/shade_rows.h"
 #include "cycle_clock.h"
 #include "tiles.h"
@@ -33,22 +35,46 @@ namespace {
 struct tile_totals {
   ray_counts rays;
   pixel_counts pixels;
-  std::uint64_t ticks_interp = 0, ticks_base = 0;
+  std::uint64_t ticks_fast = 0, ticks_interp = 0, ticks_base = 0;
+  std::vector<cell_ref> cells;  // full: the cells this tile's pixels used, for the next frame
 };
 
-void shade_tile_interp(const interp_frame& f, const tile& t, image& out, image* reasons, tile_totals& tot) {
+// Last frame's cells seen from the new eye: which pixels each one owns.
+struct reprojection_frame {
+  const std::vector<cell_ref>* cells = nullptr;
+  const std::int32_t* owner = nullptr;  // per pixel, -1: none
+};
+
+void note_cell(std::vector<cell_ref>& cells, const cell_ref& c) {
+  if (cells.empty() || cells.back().node != c.node) cells.push_back(c);
+}
+
+// Interp and full modes. Full: a pixel owned by one of last frame's cells is span-filled
+// from it; otherwise, and when its bound fails, it takes the interpolate path.
+void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, const tile& t, image& out, image* reasons,
+                       tile_totals& tot) {
   trace_state st;
   interp_scratch scratch;
+  const camera& cam = *f.cam;
   for (int y = t.y0; y < t.y1; ++y) {
     std::uint64_t c0 = cycle_now();
-    for (int x = 0; x < f.cam->width; ++x) {
-      pixel_result r = shade_pixel_interp(f, x, y, st, scratch);
+    for (int x = 0; x < cam.width; ++x) {
+      pixel_result r;
+      const std::int32_t own = rp ? rp->owner[size_t(y) * size_t(cam.width) + size_t(x)] : -1;
+      if (own >= 0 && fill_pixel(*f.w, cam, (*rp->cells)[size_t(own)], x, y, f.p.eps, r.L)) {
+        r.path = pixel_path::fast, r.reason = pixel_reason::reprojected, r.cell = (*rp->cells)[size_t(own)];
+      } else {
+        r = shade_pixel_interp(f, x, y, st, scratch);
+      }
       out.at(x, y) = r.L;
       if (reasons) reasons->at(x, y) = reason_colour(r.reason);
-      const bool interp = r.path == pixel_path::interp;
-      (interp ? tot.pixels.interp : tot.pixels.base) += 1;
+      if (rp && r.cell.node) note_cell(tot.cells, r.cell);
       const std::uint64_t c1 = cycle_now();
-      (interp ? tot.ticks_interp : tot.ticks_base) += c1 - c0;
+      switch (r.path) {
+        case pixel_path::fast: tot.pixels.fast += 1, tot.ticks_fast += c1 - c0; break;
+        case pixel_path::interp: tot.pixels.interp += 1, tot.ticks_interp += c1 - c0; break;
+        case pixel_path::base: tot.pixels.base += 1, tot.ticks_base += c1 - c0; break;
+      }
       c0 = c1;
     }
   }
@@ -58,8 +84,8 @@ void shade_tile_interp(const interp_frame& f, const tile& t, image& out, image* 
 }  // namespace
 
 frame_result render_frame(workers& pool, const world& w, const camera& cam, const frame_params& p) {
-  if (p.mode == render_mode::full) throw std::logic_error("mode 'full' is not implemented yet (reprojection comes with walkthroughs)");
-  if (p.mode == render_mode::interp && !p.trees) throw std::logic_error("interp mode needs a linetree set");
+  if (p.mode != render_mode::base && !p.trees) throw std::logic_error("interp and full modes need a linetree set");
+  if (p.mode == render_mode::full && !p.reproj) throw std::logic_error("full mode needs a reprojection state");
   const double tick_ms = ticks_per_ms();
   auto t0 = std::chrono::steady_clock::now();
   frame_result out;
@@ -70,6 +96,30 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   std::vector<tile_totals> totals(tiles.size());
   std::vector<ray_tree_store> trees(p.keep_ray_trees ? tiles.size() : 0);
   interp_frame f{&w, p.trees, &cam, p.interp};
+  // Full: last frame's cells from the new eye (each checked once, in parallel), then each
+  // tile's pixels take the first containing trusted cell.
+  std::vector<std::int32_t> owner;
+  reprojection_frame rp;
+  if (p.mode == render_mode::full) {
+    const auto r0 = std::chrono::steady_clock::now();
+    const std::vector<cell_ref>& cells = p.reproj->cells;
+    std::vector<std::uint8_t> trusted(cells.size());
+    std::vector<pixel_rect> rects(cells.size());
+    owner.resize(size_t(cam.width) * size_t(cam.height));
+    pool.run([&] {
+      tbb::parallel_for(size_t(0), cells.size(), [&](size_t i) {
+        trusted[i] = trusted_from(w, cells[i], cam.origin);
+        if (trusted[i]) rects[i] = raster_rect(cam, cell_screen_box(cam, cells[i].lt->fp, *cells[i].node));
+      });
+      tbb::parallel_for(size_t(0), tiles.size(), [&](size_t i) {
+        splat_rows(cam, cells, trusted, rects, tiles[i].y0, tiles[i].y1, owner.data());
+      });
+    });
+    rp = reprojection_frame{&cells, owner.data()};
+    out.reprojected_cells = cells.size();
+    out.trusted_cells = std::uint64_t(std::count(trusted.begin(), trusted.end(), std::uint8_t(1)));
+    out.reproject_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
+  }
   pool.run([&] {
     tbb::parallel_for(size_t(0), tiles.size(), [&](size_t i) {
       if (p.mode == render_mode::base) {
@@ -83,13 +133,21 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
             for (int x = 0; x < cam.width; ++x) out.reasons.at(x, y) = reason_colour(pixel_reason::traced);
         totals[i].ticks_base = cycle_now() - c0;
       } else {
-        shade_tile_interp(f, tiles[i], out.img, p.reasons ? &out.reasons : nullptr, totals[i]);
+        shade_tile_interp(f, p.mode == render_mode::full ? &rp : nullptr, tiles[i], out.img,
+                          p.reasons ? &out.reasons : nullptr, totals[i]);
       }
     });
   });
   for (const tile_totals& t : totals) {
     out.rays += t.rays, out.pixels += t.pixels;
+    out.path_ms.fast += double(t.ticks_fast) / tick_ms;
     out.path_ms.interp += double(t.ticks_interp) / tick_ms, out.path_ms.base += double(t.ticks_base) / tick_ms;
+  }
+  if (p.mode == render_mode::full) {
+    std::vector<cell_ref> next;
+    for (const tile_totals& t : totals) next.insert(next.end(), t.cells.begin(), t.cells.end());
+    settle_cells(next);
+    p.reproj->cells = std::move(next);
   }
   for (const ray_tree_store& t : trees) out.trees.append(t);
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "image/image.h"
 #include "interp/interp_shade.h"
@@ -32,10 +33,17 @@ struct path_times {
   double fast = 0, interp = 0, base = 0;  // ms
 };
 
+// What full mode carries from one frame to the next besides the linetrees: the cells that
+// gave pixels their radiance.
+struct reprojection_state {
+  std::vector<cell_ref> cells;
+};
+
 struct frame_params {
   render_mode mode = render_mode::base;
   interp_params interp;            // eps and the cost model, for interp and full
   linetree_set* trees = nullptr;   // kept between frames by the caller; needed by interp/full
+  reprojection_state* reproj = nullptr;  // kept between frames by the caller; needed by full
   int tile_rows = 0;               // 0: default_tile_rows
   bool keep_ray_trees = false;     // base: fill frame_result::trees, one per pixel, raster order
   bool reasons = false;            // fill frame_result::reasons (the error-coded image)
@@ -47,6 +55,8 @@ struct frame_result {
   pixel_counts pixels;
   ray_counts rays;
   double ms = 0;
+  double reproject_ms = 0;  // full: wall time of trusting and splatting last frame's cells
+  std::uint64_t reprojected_cells = 0, trusted_cells = 0;
   path_times path_ms;
   std::uint64_t memory_bytes = 0;  // image, ray trees, linetrees
   ray_tree_store trees;

@@ -393,9 +393,10 @@ TEST_F(Cli, WalkFramesMatchRendersOfThePathAndIgnoreThreads) {
            "one.pfm", "--quiet"});
   ASSERT_EQ(r.code, 0) << r;
   EXPECT_EQ(test::read_file(work.file("b/frame_0001.pfm")), test::read_file(work.file("one.pfm")));
-  // interp: linetrees carried between frames give the same images on 1 and 2 threads.
+  // full: linetrees and reprojected cells carried between frames give the same images on
+  // 1 and 2 threads.
   for (const char* t : {"1", "2"}) {
-    r = run({"walk", "good.nff", "--path", "two.path", "--mode", "interp", "--size", "32x24", "--threads", t,
+    r = run({"walk", "good.nff", "--path", "two.path", "--mode", "full", "--size", "32x24", "--threads", t,
              "--out-dir", std::string("t") + t, "--pfm", "--quiet"});
     ASSERT_EQ(r.code, 0) << r;
   }

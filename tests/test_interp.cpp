@@ -514,6 +514,7 @@ TEST(InterpMode, ImagesAndPixelPathsIndependentOfThreads) {
     frame_params p;
     p.mode = render_mode::interp;
     p.interp.eps = 0.05f;
+    p.interp.min_cell_pixels = 2;  // a small image: small cells, many racing builds
     p.trees = &trees;
     p.reasons = true;
     frame_result fr = render_frame(pool, w, cam, p);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "interp/cell_screen.h"
 #include "predicate/error_predicate.h"
 #include "shade/texture.h"
 
@@ -12,35 +13,6 @@ namespace epsray {
 namespace {
 
 constexpr float floor_radiance = 1.0f / 255;  // whitted.md 6
-
-// Screen pixels whose eye rays fall in the cell: the overlap of the projections of its
-// front and back faces (bounding rectangles, so an overestimate).
-float cell_pixels(const camera& cam, const facepair& fp, const lt_node& n) {
-  float x0[2] = {INFINITY, INFINITY}, x1[2] = {-INFINITY, -INFINITY};
-  float y0[2] = {INFINITY, INFINITY}, y1[2] = {-INFINITY, -INFINITY};
-  bool behind = false;
-  for (int face = 0; face < 2; ++face) {
-    for (int k = 0; k < 4; ++k) {
-      float a = (k & 1) ? n.hi[2 * face] : n.lo[2 * face];
-      float b = (k & 2) ? n.hi[2 * face + 1] : n.lo[2 * face + 1];
-      glm::vec3 p = face == 0 ? front_point(fp, a, b) : back_point(fp, a, b);
-      glm::vec3 q = p - cam.origin;
-      float z = glm::dot(q, cam.w);
-      // An eye ray's line meets a face behind the eye too (a floor's front plane often lies
-      // behind the camera): the line through the eye and p is the one through -q. A face
-      // crossing the eye's plane has no bounded projection.
-      if (k == 0) behind = z < 0;
-      if (z == 0 || (z < 0) != behind) return std::numeric_limits<float>::infinity();
-      if (behind) q = -q, z = -z;
-      float px = glm::dot(q, cam.r) / (z * cam.step), py = glm::dot(q, cam.u) / (z * cam.step);
-      x0[face] = std::min(x0[face], px), x1[face] = std::max(x1[face], px);
-      y0[face] = std::min(y0[face], py), y1[face] = std::max(y1[face], py);
-    }
-  }
-  float w = std::min(x1[0], x1[1]) - std::max(x0[0], x0[1]);
-  float h = std::min(y1[0], y1[1]) - std::max(y0[0], y0[1]);
-  return w > 0 && h > 0 ? w * h : 0;
-}
 
 // The axes a pattern over the 16 corners depends on (cls[k]: the class of corner k).
 // Classes that change with (a, c) only mean an edge running across the cell along (b, d),
@@ -152,7 +124,7 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
   cell_query q;
   q.w = &w, q.prim = prim, q.fp = &fp, q.lo = n.lo, q.hi = n.hi, q.tree = trees[0], q.textured = ip->textured;
   cell_bound b = bound_cell(q);
-  ip->reason = b.reason, ip->err = b.err, ip->err_tex = b.err_tex, ip->err_uv = b.err_uv;
+  ip->reason = b.reason, ip->err = b.err, ip->err_tex = b.err_tex, ip->err_uv = b.err_uv, ip->hit_box = b.hit_box;
   ip->split = b.reason == cell_reason::valid || b.reason == cell_reason::nonlinear ? b.split : axes_by_extent(n);
   return ip;
 }
@@ -162,6 +134,8 @@ bool strictly_inside(const lt_node& n, const float x[4]) {
     if (!(x[i] > n.lo[i] && x[i] < n.hi[i])) return false;
   return true;
 }
+
+}  // namespace
 
 // Is the proven bound within epsilon for every line of the cell? Decides subdivision, so
 // it depends on the cell alone. Textured cells defer to the per-pixel test.
@@ -228,7 +202,13 @@ bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye) {
   return false;
 }
 
-}  // namespace
+bool interpolate_line(const world& w, int prim, const lt_node& n, const interpolant& ip, const float x4[4], float eps,
+                      glm::vec3& L) {
+  float t[4], wts[16];
+  for (int i = 0; i < 4; ++i) t[i] = std::clamp((x4[i] - n.lo[i]) / (n.hi[i] - n.lo[i]), 0.0f, 1.0f);
+  corner_weights(t, wts);
+  return ip.textured ? textured_radiance(w, prim, ip, wts, eps, L) : within(L = interpolate(ip.rad, wts), ip.err, eps);
+}
 
 glm::vec3 reason_colour(pixel_reason r) {
   switch (r) {
@@ -238,6 +218,7 @@ glm::vec3 reason_colour(pixel_reason r) {
     case pixel_reason::blocked: return {0.9f, 0.1f, 0.1f};
     case pixel_reason::nonlinear: return {0.9f, 0.1f, 0.9f};
     case pixel_reason::traced: return {0.15f, 0.15f, 0.15f};
+    case pixel_reason::reprojected: return {0.3f, 0.4f, 0.75f};
   }
   return {0, 0, 0};
 }
@@ -301,16 +282,12 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
     break;
   }
   if (ip->reason == cell_reason::valid) {
-    float t[4], wts[16];
-    for (int i = 0; i < 4; ++i) t[i] = std::clamp((x4[i] - node->lo[i]) / (node->hi[i] - node->lo[i]), 0.0f, 1.0f);
-    corner_weights(t, wts);
     glm::vec3 La;
-    bool ok = ip->textured ? textured_radiance(w, h.prim, *ip, wts, f.p.eps, La)
-                           : within(La = interpolate(ip->rad, wts), ip->err, f.p.eps);
-    if (ok) {
+    if (interpolate_line(w, h.prim, *node, *ip, x4, f.p.eps, La)) {
       out.L = La;
       out.path = pixel_path::interp;
       out.reason = pixel_reason::interpolated;
+      out.cell = cell_ref{&lt, node, ip, h.prim};
       return out;
     }
     out.reason = pixel_reason::nonlinear;

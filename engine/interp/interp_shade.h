@@ -14,7 +14,7 @@ namespace epsray {
 
 struct interp_params {
   float eps = 0.05f;
-  float min_cell_pixels = 8;   // no subdivision into children covering fewer pixels
+  float min_cell_pixels = 16;  // no subdivision into children covering fewer pixels
   float max_cell_pixels = 4096;  // larger cells are subdivided without building an interpolant
   int max_depth = 16;          // halvings of any axis below the root (floats keep ~7 digits)
   bool four_way = true;        // halve only the axes the failure points at (section 8.6)
@@ -29,6 +29,7 @@ enum class pixel_reason : std::uint8_t {
   blocked,
   nonlinear,
   traced,           // base-traced for another reason: background, eye behind the face, ...
+  reprojected,      // full mode: span-filled from a reprojected cell
 };
 
 // Per-thread scratch for building interpolants: reused, never reallocated per ray.
@@ -48,13 +49,32 @@ struct interp_frame {
   interp_params p;
 };
 
+// A cell that gave pixels their radiance: what reprojection carries to the next frame.
+struct cell_ref {
+  const linetree* lt = nullptr;
+  const lt_node* node = nullptr;
+  const interpolant* ip = nullptr;
+  int prim = -1;
+};
+
 struct pixel_result {
   glm::vec3 L{0};
   pixel_path path = pixel_path::base;
   pixel_reason reason = pixel_reason::traced;
+  cell_ref cell;  // path interp or fast: the cell used
 };
 
 pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state& st, interp_scratch& scratch);
+
+// Is the proven bound within epsilon for every line of the cell (textured cells: decided
+// per line)?
+bool cell_accurate(const interpolant& ip, float eps);
+// Is an eye ray's first hit on the shape the first hit of its line after the front plane
+// (the one the interpolant holds)?
+bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye);
+// The interpolated radiance of the line x4 of cell n, when the bound meets epsilon for it.
+bool interpolate_line(const world& w, int prim, const lt_node& n, const interpolant& ip, const float x4[4], float eps,
+                      glm::vec3& L);
 
 // The paper's colours for the error-coded image.
 glm::vec3 reason_colour(pixel_reason r);

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 
+#include "geom/bounds.h"
+
 namespace epsray {
 
 // Which axes a subdivision halves, bit i for axis i of (a, b, c, d). Halving (a, c) or
@@ -22,6 +24,7 @@ enum class cell_reason : std::uint8_t {
 // Corner k of a cell: bit 0 picks a's upper end, bit 1 b's, bit 2 c's, bit 3 d's.
 struct interpolant {
   cell_reason reason = cell_reason::valid;
+  bool shared = false;     // a failure_record: owned by no node
   bool textured = false;
   std::uint8_t split = split_all;  // the axes worth halving when the cell is not accurate
   glm::vec3 rad[16];       // radiance; textured: the part the texture does not multiply
@@ -31,7 +34,13 @@ struct interpolant {
   glm::vec3 err{0};        // proven bound of |f - interpolated f| for rad, per channel
   glm::vec3 err_tex{0};    // ... for tex
   glm::vec2 err_uv{0};     // ... for uv
+  bounds hit_box;          // valid cells: where the cell's lines meet the object (reprojection's
+                           // occlusion test from a new eye)
 };
+
+// Failed cells keep only why they failed and which axes to halve: one shared, immutable
+// record per (reason, split) instead of an interpolant of ~600 bytes each.
+const interpolant* failure_record(cell_reason r, std::uint8_t split);
 
 // Quadrilinear weights of a point with cell-relative coordinates t (each in [0, 1]).
 inline void corner_weights(const float t[4], float wts[16]) {

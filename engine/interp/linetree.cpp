@@ -1,13 +1,25 @@
 #include "interp/linetree.h"
 
 #include <algorithm>
+#include <array>
 #include <functional>
 
 namespace epsray {
 
 lt_node::~lt_node() {
   delete[] kids.load(std::memory_order_relaxed);
-  delete interp.load(std::memory_order_relaxed);
+  interpolant* ip = interp.load(std::memory_order_relaxed);
+  if (ip && !ip->shared) delete ip;
+}
+
+const interpolant* failure_record(cell_reason r, std::uint8_t split) {
+  static const auto records = [] {
+    std::array<std::array<interpolant, 16>, 5> all{};
+    for (int i = 0; i < 5; ++i)
+      for (int k = 0; k < 16; ++k) all[size_t(i)][size_t(k)].reason = cell_reason(i), all[size_t(i)][size_t(k)].split = std::uint8_t(k), all[size_t(i)][size_t(k)].shared = true;
+    return all;
+  }();
+  return &records[size_t(r)][split & 15u];
 }
 
 lt_node* subdivide(lt_node& n, std::uint8_t axes) {
@@ -34,9 +46,12 @@ lt_node* subdivide(lt_node& n, std::uint8_t axes) {
 }
 
 const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made) {
+  interpolant* mine = made->reason == cell_reason::valid ? made.get()
+                                                          : const_cast<interpolant*>(failure_record(made->reason, made->split));
   interpolant* expected = nullptr;
-  if (n.interp.compare_exchange_strong(expected, made.get(), std::memory_order_acq_rel)) return made.release();
-  return expected;
+  if (!n.interp.compare_exchange_strong(expected, mine, std::memory_order_acq_rel)) return expected;
+  if (mine == made.get()) made.release();
+  return mine;
 }
 
 linetree_set::linetree_set(const std::vector<bounds>& prim_bounds)
@@ -66,7 +81,8 @@ linetree& linetree_set::get(int prim, int fi) {
 size_t linetree_set::bytes() const {
   size_t total = count_ * sizeof(std::array<std::atomic<linetree*>, 6>) + samples_.bytes();
   std::function<size_t(const lt_node&)> walk = [&](const lt_node& n) -> size_t {
-    size_t b = n.interp.load(std::memory_order_acquire) ? sizeof(interpolant) : 0;
+    const interpolant* ip = n.interp.load(std::memory_order_acquire);
+    size_t b = ip && !ip->shared ? sizeof(interpolant) : 0;
     if (const lt_node* k = n.kids.load(std::memory_order_acquire)) {
       const int count = child_count(k[0].parent_axes);
       b += size_t(count) * sizeof(lt_node);

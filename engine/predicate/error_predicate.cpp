@@ -80,6 +80,7 @@ struct evaluator {
   const ray_tree& tree;
   cell_reason fail = cell_reason::valid;
   double far;  // farther than any scene point from any ray origin we see
+  bounds root_hits;  // where the cell's lines meet the object
 
   bool reject(cell_reason r) {
     if (fail == cell_reason::valid) fail = r;
@@ -465,6 +466,7 @@ struct evaluator {
     const int prim = w.shape_of[size_t(n.prim)];
     surface_family sf;
     if (!intersect(prim, o, d, sf)) return false;
+    if (from < 0) root_hits = box_of(sf.p);
     if (from >= 0) {  // a secondary segment: nothing but its ends in its shaft
       if (!shaft_clear(box_of(o), box_of(sf.p), prim, from_ignorable ? from : -1)) return false;
     }
@@ -575,7 +577,7 @@ struct evaluator {
 cell_bound bound_cell(const cell_query& q) {
   const world& w = *q.w;
   const facepair& fp = *q.fp;
-  evaluator ev{w, *q.tree, cell_reason::valid, 0};
+  evaluator ev{w, *q.tree, cell_reason::valid, 0, bounds{}};
   glm::dvec3 ext = dv(w.box.extent());
   double scene = glm::length(ext);
   // Lines start on the facepair's front plane, within a few object sizes of the scene.
@@ -596,6 +598,7 @@ cell_bound bound_cell(const cell_query& q) {
     out.reason = ev.fail == cell_reason::valid ? cell_reason::nonlinear : ev.fail;
     return out;
   }
+  out.hit_box = ev.root_hits;
   double h[4];
   for (int i = 0; i < 4; ++i) h[i] = double(q.hi[i]) - double(q.lo[i]);
   double axis[4] = {0, 0, 0, 0};

@@ -26,6 +26,7 @@ struct cell_bound {
   std::uint8_t split = split_all;  // the axes to halve if the bound is too large
   glm::vec3 err{0}, err_tex{0};
   glm::vec2 err_uv{0};
+  bounds hit_box;  // valid cells: a box holding every point where the cell's lines meet the object
 };
 
 cell_bound bound_cell(const cell_query& q);

@@ -1,0 +1,60 @@
+#include "interp/cell_screen.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace epsray {
+
+screen_box cell_screen_box(const camera& cam, const facepair& fp, const lt_node& n) {
+  float x0[2] = {INFINITY, INFINITY}, x1[2] = {-INFINITY, -INFINITY};
+  float y0[2] = {INFINITY, INFINITY}, y1[2] = {-INFINITY, -INFINITY};
+  screen_box out;
+  for (int face = 0; face < 2; ++face) {
+    bool behind = false;
+    for (int k = 0; k < 4; ++k) {
+      float a = (k & 1) ? n.hi[2 * face] : n.lo[2 * face];
+      float b = (k & 2) ? n.hi[2 * face + 1] : n.lo[2 * face + 1];
+      glm::vec3 p = face == 0 ? front_point(fp, a, b) : back_point(fp, a, b);
+      glm::vec3 q = p - cam.origin;
+      float z = glm::dot(q, cam.w);
+      // An eye ray's line meets a face behind the eye too (a floor's front plane often lies
+      // behind the camera): the line through the eye and p is the one through -q. A face
+      // crossing the eye's plane has no bounded projection.
+      if (k == 0) behind = z < 0;
+      if (z == 0 || (z < 0) != behind) {
+        out.bounded = false;
+        return out;
+      }
+      if (behind) q = -q, z = -z;
+      float px = glm::dot(q, cam.r) / (z * cam.step), py = glm::dot(q, cam.u) / (z * cam.step);
+      x0[face] = std::min(x0[face], px), x1[face] = std::max(x1[face], px);
+      y0[face] = std::min(y0[face], py), y1[face] = std::max(y1[face], py);
+    }
+  }
+  out.x0 = std::max(x0[0], x0[1]), out.x1 = std::min(x1[0], x1[1]);
+  out.y0 = std::max(y0[0], y0[1]), out.y1 = std::min(y1[0], y1[1]);
+  return out;
+}
+
+float cell_pixels(const camera& cam, const facepair& fp, const lt_node& n) {
+  screen_box b = cell_screen_box(cam, fp, n);
+  if (!b.bounded) return std::numeric_limits<float>::infinity();
+  return b.empty() ? 0 : (b.x1 - b.x0) * (b.y1 - b.y0);
+}
+
+pixel_rect raster_rect(const camera& cam, const screen_box& b) {
+  pixel_rect r;
+  if (!b.bounded) return pixel_rect{0, 0, cam.width, cam.height};
+  if (b.empty()) return r;
+  const float cx = 0.5f * float(cam.width - 1), cy = 0.5f * float(cam.height - 1);
+  // Column x has its centre at x - cx; row y at cy - y.
+  auto clampi = [](float v, int hi) { return int(std::clamp(v, 0.0f, float(hi))); };
+  r.x0 = clampi(std::floor(b.x0 + cx) - 1, cam.width);
+  r.x1 = clampi(std::ceil(b.x1 + cx) + 2, cam.width);
+  r.y0 = clampi(std::floor(cy - b.y1) - 1, cam.height);
+  r.y1 = clampi(std::ceil(cy - b.y0) + 2, cam.height);
+  return r;
+}
+
+}  // namespace epsray

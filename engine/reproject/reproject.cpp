@@ -1,0 +1,59 @@
+#include "reproject/reproject.h"
+
+#include <algorithm>
+#include <tuple>
+
+#include "predicate/shaft.h"
+
+namespace epsray {
+
+bool trusted_from(const world& w, const cell_ref& c, glm::vec3 eye) {
+  if (c.ip->reason != cell_reason::valid || c.ip->hit_box.empty()) return false;
+  if (!same_first_hit(w.shapes[size_t(c.prim)], c.lt->fp, eye)) return false;
+  const shaft s = make_shaft(bounds{eye, eye}, c.ip->hit_box);
+  return !for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) { return id != c.prim; });
+}
+
+bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float x4[4]) {
+  const glm::vec3 d = eye_direction(cam, float(x), float(y));
+  line_coords(c.lt->fp, cam.origin, d, x4);
+  for (int i = 0; i < 4; ++i)
+    if (!(x4[i] >= c.node->lo[i] && x4[i] <= c.node->hi[i])) return false;
+  return true;
+}
+
+void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std::vector<std::uint8_t>& trusted,
+                const std::vector<pixel_rect>& rects, int y0, int y1, std::int32_t* owner) {
+  std::fill(owner + size_t(y0) * size_t(cam.width), owner + size_t(y1) * size_t(cam.width), -1);
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (!trusted[i]) continue;
+    const pixel_rect& r = rects[i];
+    const int ya = std::max(r.y0, y0), yb = std::min(r.y1, y1);
+    for (int y = ya; y < yb; ++y) {
+      std::int32_t* row = owner + size_t(y) * size_t(cam.width);
+      for (int x = r.x0; x < r.x1; ++x) {
+        float x4[4];
+        if (row[x] < 0 && eye_line_in_cell(cam, cells[i], x, y, x4)) row[x] = std::int32_t(i);
+      }
+    }
+  }
+}
+
+bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, int x, int y, float eps, glm::vec3& L) {
+  float x4[4];
+  if (!eye_line_in_cell(cam, c, x, y, x4)) return false;
+  return interpolate_line(w, c.prim, *c.node, *c.ip, x4, eps, L);
+}
+
+void settle_cells(std::vector<cell_ref>& cells) {
+  auto key = [](const cell_ref& c) {
+    const lt_node& n = *c.node;
+    return std::make_tuple(c.prim, c.lt->fp.index, n.lo[0], n.lo[1], n.lo[2], n.lo[3], n.hi[0], n.hi[1], n.hi[2],
+                           n.hi[3]);
+  };
+  std::sort(cells.begin(), cells.end(), [&](const cell_ref& a, const cell_ref& b) { return key(a) < key(b); });
+  cells.erase(std::unique(cells.begin(), cells.end(), [](const cell_ref& a, const cell_ref& b) { return a.node == b.node; }),
+              cells.end());
+}
+
+}  // namespace epsray

@@ -1,0 +1,44 @@
+// Reprojection and span filling (section 6). The cells that gave pixels their radiance in
+// the last frame are looked at from the new eye: a pixel whose eye ray lies in one of them,
+// when the cell is trusted from that eye, takes the cell's interpolant with no visibility
+// ray and no lookup. Runs of pixels owned by one cell along a scan line are the paper's
+// spans; each pixel of a span evaluates the cell's quadrilinear interpolant at its own
+// line, so span-filled pixels carry the same proven bound as interpolated ones (no
+// screen-space interpolation error to fold in).
+//
+// Where the paper rasterizes cell faces with conflict detection, ownership here is decided
+// exactly, per pixel: the pixel's line must lie inside the cell's four ranges. Cells keep a
+// deterministic order, and the first containing trusted cell owns the pixel.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "accel/world.h"
+#include "interp/cell_screen.h"
+#include "interp/interp_shade.h"
+
+namespace epsray {
+
+// Is cell c trusted from `eye`: its interpolant valid, the eye ray's first hit on the
+// object the one its lines hold, and nothing but the object in the shaft from the eye to
+// the points where the cell's lines meet it (so no occluder in front of any of them).
+bool trusted_from(const world& w, const cell_ref& c, glm::vec3 eye);
+
+// The line of pixel (x, y) in the cell's facepair coordinates, as the interpolate path
+// computes it; true when it lies inside the cell.
+bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float x4[4]);
+
+// Owner of each pixel of rows [y0, y1): the index of the first trusted cell (in list order)
+// holding the pixel's line, or -1. `owner` is the whole image's buffer, row-major.
+void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std::vector<std::uint8_t>& trusted,
+                const std::vector<pixel_rect>& rects, int y0, int y1, std::int32_t* owner);
+
+// Span fill of pixel (x, y) from its owner: false when the bound does not meet epsilon for
+// this pixel's line (the pixel then takes the interpolate path).
+bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, int x, int y, float eps, glm::vec3& L);
+
+// The cells a frame used, gathered from its tiles, in a deterministic order (primitive,
+// facepair, ranges) without repeats: the next frame's list.
+void settle_cells(std::vector<cell_ref>& cells);
+
+}  // namespace epsray
