@@ -360,6 +360,40 @@ p 6
   EXPECT_GT(s.accepted_in_shadow, 5);
 }
 
+TEST(Predicate, CanvasJustInFrontOfItsFrameIsNotBlockedByIt) {
+  // A canvas polygon 5 mm in front of its frame box, filling the view: the boxes of its
+  // hit points must stay flat, or every shadow shaft would touch the frame behind.
+  world w = world_of(R"(
+v
+from 0 1 4
+at 0 1 0
+up 0 1 0
+angle 30
+hither 0.01
+resolution 64 48
+l 0.5 2.5 3
+f 0.8 0.6 0.3 0.7 0.25 60 0 1
+box -1.2 0.1 -0.06 1.2 1.9 0
+f 1 1 1 0.9 0 0 0 1
+p 4
+-1.1 0.2 0.005
+1.1 0.2 0.005
+1.1 1.8 0.005
+-1.1 1.8 0.005
+)");
+  linetree_set trees(w.prim_bounds);
+  workers pool(2);
+  frame_params p;
+  p.mode = render_mode::interp;
+  p.interp.eps = 0.05f;
+  p.interp.min_cell_pixels = 4;
+  p.trees = &trees;
+  const camera cam = make_camera(w.sc.view, 160, 120);
+  frame_result fr = render_frame(pool, w, cam, p);
+  EXPECT_GT(fr.pixels.interp, 160u * 120u / 2);
+  EXPECT_EQ(verify_frame(pool, w, cam, fr.img, 0.05f).violations, 0u);
+}
+
 TEST(Linetree, FourWaySplitsHalveOnlyTheChosenAxes) {
   bounds box{vec3(-1), vec3(1)};
   linetree_set set(std::vector<bounds>{box});
@@ -491,7 +525,9 @@ TEST(InterpConcurrency, RacingBuildersProduceTheSerialImage) {
   for (unsigned t = 0; t < 8; ++t) threads.emplace_back([&, t] { shade_all(shared, t + 1, images[t]); });
   for (std::thread& t : threads) t.join();
   for (const image& img : images) EXPECT_EQ(img.pixels, serial.pixels);
-  EXPECT_EQ(shared.bytes(), serial_trees.bytes());  // the same cells were built
+  // The same cells were built. (The caches may differ: which corners a failing cell
+  // shades before it is rejected depends on which its siblings already shaded.)
+  EXPECT_EQ(shared.bytes() - shared.samples().bytes(), serial_trees.bytes() - serial_trees.samples().bytes());
 }
 
 }  // namespace

@@ -40,7 +40,8 @@ std::uint8_t axes_by_extent(const lt_node& n) {
 // it is the visibility ray's business), each looked up in the shared sample cache first and
 // published there after tracing; then the topology test and the predicate.
 std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const facepair& fp, const lt_node& n,
-                                               sample_cache& cache, trace_state& st, interp_scratch& scratch) {
+                                               bool terminal, sample_cache& cache, trace_state& st,
+                                               interp_scratch& scratch) {
   auto ip = std::make_unique<interpolant>();
   const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
   ip->textured = m.texture >= 0;
@@ -79,6 +80,21 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     ip->reason = cell_reason::missed, ip->split = axes_of_pattern(cls);
     return ip;
   }
+  // A cell that cannot be split any further needs no corner pattern: the first two corners
+  // with different topologies reject it, before the rest are shaded (cached corners first).
+  const ray_tree* first = nullptr;
+  auto differs = [&](const ray_tree* t) {
+    if (!first) first = t;
+    return t != first && !same_topology(*first, *t);
+  };
+  if (terminal) {
+    for (int k = 0; k < 16; ++k) {
+      if (known[k] && differs(samples[k].tree)) {
+        ip->reason = cell_reason::discontinuity, ip->split = axes_by_extent(n);
+        return ip;
+      }
+    }
+  }
   ray_tree* saved_tree = st.tree;
   for (int k = 0; k < 16; ++k) {
     if (known[k]) {
@@ -97,6 +113,11 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     s.tree = cache.trees.canonical(tree);
     if (s.tree) cache.lines.insert(keys[k], s);  // uncacheable trees stay private to this build
     trees[k] = s.tree ? s.tree : &tree;
+    if (terminal && differs(trees[k])) {
+      st.tree = saved_tree;
+      ip->reason = cell_reason::discontinuity, ip->split = axes_by_extent(n);
+      return ip;
+    }
   }
   st.tree = saved_tree;
   ip->rad_min = glm::vec3(INFINITY);
@@ -270,7 +291,10 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
       node = child_at(*node, subdivide(*node, split_all), x4);
       continue;
     }
-    if (!ip) ip = publish(*node, build_interpolant(w, h.prim, lt.fp, *node, f.trees->samples(), st, scratch));
+    if (!ip) {
+      const bool terminal = node->depth >= f.p.max_depth || pixels < 2 * f.p.min_cell_pixels;
+      ip = publish(*node, build_interpolant(w, h.prim, lt.fp, *node, terminal, f.trees->samples(), st, scratch));
+    }
     if (!cell_accurate(*ip, f.p.eps)) {
       const std::uint8_t axes = f.p.four_way ? ip->split : std::uint8_t(split_all);
       const bool halves = axes != split_all && pixels >= 2 * f.p.min_cell_pixels;

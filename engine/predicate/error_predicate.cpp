@@ -52,6 +52,28 @@ bounds box_of(const jv& p) {
   return b;
 }
 
+// The box of points that lie on the plane n.p = c, tightened by the plane: each coordinate
+// is also bounded through the others. Affine forms of o + t d leave a flat family's box
+// centimetres thick, touching whatever stands just behind the surface (a canvas' frame).
+bounds box_on_plane(const jv& p, glm::dvec3 n, double c) {
+  bounds b = box_of(p);
+  for (int i = 0; i < 3; ++i) {
+    if (std::fabs(n[i]) < 1e-9) continue;
+    double lo_s = c, hi_s = c;  // c - sum_{j != i} n_j p_j
+    for (int j = 0; j < 3; ++j) {
+      if (j == i) continue;
+      double a = n[j] * double(b.lo[j]), z = n[j] * double(b.hi[j]);
+      lo_s -= std::max(a, z), hi_s -= std::min(a, z);
+    }
+    double v0 = lo_s / n[i], v1 = hi_s / n[i];
+    if (v0 > v1) std::swap(v0, v1);
+    const double pad = 1e-6 * (std::fabs(v0) + std::fabs(v1)) + 1e-9;
+    b.lo[i] = std::max(b.lo[i], std::nextafter(float(v0 - pad), -INFINITY));
+    b.hi[i] = std::min(b.hi[i], std::nextafter(float(v1 + pad), INFINITY));
+  }
+  return b;
+}
+
 bool finite_box(const bounds& b) {
   for (int i = 0; i < 3; ++i)
     if (!std::isfinite(b.lo[i]) || !std::isfinite(b.hi[i])) return false;
@@ -72,6 +94,7 @@ bool cannot_reenter(shape_kind k, bool from_outside) {
 struct surface_family {
   djet t;
   jv p, ng;            // hit points; outward geometric normals
+  bounds box;          // holds every hit point (tighter than p's range on planes)
   bool from_outside = true;  // spheres, boxes, cones: every ray arrives from outside the solid
 };
 
@@ -137,7 +160,8 @@ struct evaluator {
     if (!positive(s.t)) return reject(cell_reason::missed);
     s.p = o + d * s.t;
     s.ng = constant(n);
-    if (!inside_planar(pr, box_of(s.p), n)) return reject(cell_reason::missed);
+    s.box = box_on_plane(s.p, n, glm::dot(n, anchor));
+    if (!inside_planar(pr, s.box, n)) return reject(cell_reason::missed);
     return true;
   }
 
@@ -274,6 +298,8 @@ struct evaluator {
       return reject(cell_reason::discontinuity);
     }
     s.p = o + d * s.t;
+    glm::dvec3 nk{mid(s.ng.x.v), mid(s.ng.y.v), mid(s.ng.z.v)};  // the face's outward normal, exact
+    s.box = box_on_plane(s.p, nk, glm::dot(nk, dv(g.c)) + double(g.half[k]));
     return true;
   }
 
@@ -466,9 +492,10 @@ struct evaluator {
     const int prim = w.shape_of[size_t(n.prim)];
     surface_family sf;
     if (!intersect(prim, o, d, sf)) return false;
-    if (from < 0) root_hits = box_of(sf.p);
+    if (sf.box.empty()) sf.box = box_of(sf.p);
+    if (from < 0) root_hits = sf.box;
     if (from >= 0) {  // a secondary segment: nothing but its ends in its shaft
-      if (!shaft_clear(box_of(o), box_of(sf.p), prim, from_ignorable ? from : -1)) return false;
+      if (!shaft_clear(box_of(o), sf.box, prim, from_ignorable ? from : -1)) return false;
     }
     const shape_kind kind = w.shapes[size_t(prim)].kind;
     const primitive& pr = w.sc.prims[size_t(n.prim)];
@@ -499,6 +526,13 @@ struct evaluator {
     const double delta = w.delta;
     jv above = sf.p + nf * delta;
     bounds above_box = box_of(above);
+    {  // the hit points' box moved off the surface: tighter than above's own range on planes
+      const bounds off = box_of(nf * delta);
+      for (int i = 0; i < 3; ++i) {
+        above_box.lo[i] = std::max(above_box.lo[i], std::nextafter(sf.box.lo[i] + off.lo[i], -INFINITY));
+        above_box.hi[i] = std::min(above_box.hi[i], std::nextafter(sf.box.hi[i] + off.hi[i], INFINITY));
+      }
+    }
     jv view = -d;
     for (size_t j = 0; j < w.light_pos.size(); ++j) {
       std::int32_t status = tree.lights[n.lights + j];
