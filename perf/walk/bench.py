@@ -1,0 +1,100 @@
+#!/usr/bin/env python3
+"""Walkthroughs: full (reprojection + interpolants) against base and interp (issue 4).
+
+Runs `epsray walk` over a camera path in each mode, interleaved, R repetitions, and
+reports per mode: median frame time and its ratio to base measured in the same run, the
+share of pixels per path, the relative cost of each path as in the paper's Table 1
+(thread time per pixel of the path, over the thread time per pixel of the base walk),
+the reprojection time per frame, linetree memory over the walk, and (from one --verify
+walk) the max error and pixels over epsilon.
+
+    perf/walk/bench.py [--scene scenes/artroom.nff] [--path scenes/paths/artroom-walk.path]
+                       [--size 800x600] [--eps 0.05] [--reps 1] [--threads N]
+                       [--exe build/epsray] [--out perf/results/walk.md]
+"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def walk(exe, scene, path, mode, size, threads, eps, verify=False):
+    with tempfile.TemporaryDirectory() as d:
+        stats = os.path.join(d, "s.json")
+        cmd = [exe, "walk", scene, "--path", path, "--mode", mode, "--size", size, "--threads", str(threads),
+               "--eps", str(eps), "--quiet", "--stats", stats]
+        if verify:
+            cmd.append("--verify")
+        subprocess.run(cmd, check=True)
+        with open(stats) as f:
+            return json.load(f)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--scene", default=os.path.join(ROOT, "scenes", "artroom.nff"))
+    ap.add_argument("--path", default=os.path.join(ROOT, "scenes", "paths", "artroom-walk.path"))
+    ap.add_argument("--size", default="800x600")
+    ap.add_argument("--eps", type=float, default=0.05)
+    ap.add_argument("--reps", type=int, default=1)
+    ap.add_argument("--threads", type=int, default=os.cpu_count() or 1)
+    ap.add_argument("--exe", default=os.path.join(ROOT, "build", "epsray"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "perf", "results", "walk.md"))
+    a = ap.parse_args()
+    modes = ["base", "interp", "full"]
+    runs = {m: [] for m in modes}
+    for _ in range(a.reps):  # interleaved: base, interp, full, base, ...
+        for m in modes:
+            runs[m].append(walk(a.exe, a.scene, a.path, m, a.size, a.threads, a.eps))
+    checked = walk(a.exe, a.scene, a.path, "full", a.size, a.threads, a.eps, verify=True)
+
+    def frames(m):
+        return [f for r in runs[m] for f in r["frames"]]
+
+    med = {m: statistics.median(f["ms"] for f in frames(m)) for m in modes}
+    w, h = (int(v) for v in a.size.split("x"))
+    base_px_ms = statistics.median(f["path_ms"]["base"] for f in frames("base")) / (w * h)
+    n_frames = len(runs["base"][0]["frames"])
+    lines = []
+    lines.append("# Walkthrough: %s, %d frames of %s, %s, eps %g, %d threads, %d rep(s); %s\n" %
+                 (os.path.basename(a.scene), n_frames, os.path.basename(a.path), a.size, a.eps, a.threads, a.reps,
+                  time.strftime("%Y-%m-%d %H:%M")))
+    lines.append("| mode | median frame ms | base / mode | fast | interp | base-traced | "
+                 "cost fast | cost interp | cost base | reprojection ms | memory MB (first / middle / last) |")
+    lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+    for m in modes:
+        fs = frames(m)
+        px = {k: sum(f["pixels"][k] for f in fs) for k in ("fast", "interp", "base")}
+        tm = {k: sum(f["path_ms"][k] for f in fs) for k in ("fast", "interp", "base")}
+        allpx = sum(px.values())
+        cost = {k: (tm[k] / px[k] / base_px_ms if px[k] else float("nan")) for k in px}
+        mem = [f["memory_bytes"] / 1e6 for f in runs[m][0]["frames"]]
+        rep = statistics.median(f.get("reproject_ms", 0) for f in fs)
+        lines.append("| %s | %.1f | %.2f | %.1f%% | %.1f%% | %.1f%% | %.3f | %.2f | %.2f | %.1f | %.1f / %.1f / %.1f |" %
+                     (m, med[m], med["base"] / med[m], 100 * px["fast"] / allpx, 100 * px["interp"] / allpx,
+                      100 * px["base"] / allpx, cost["fast"], cost["interp"], cost["base"], rep, mem[0],
+                      mem[len(mem) // 2], mem[-1]))
+    worst = max(f["verify"]["max_rel_err"] for f in checked["frames"])
+    over = sum(f["verify"]["violations"] for f in checked["frames"])
+    lines.append("")
+    lines.append("Costs are thread time per pixel of each path over thread time per pixel of the base walk "
+                 "(the paper's Table 1: fast 0.022, interpolate and build 0.84-1.33, base 1).")
+    lines.append("Verified full walk: max relative error %.4f, %d pixels over eps %g in %d frames." %
+                 (worst, over, a.eps, len(checked["frames"])))
+    text = "\n".join(lines) + "\n"
+    print(text)
+    os.makedirs(os.path.dirname(a.out), exist_ok=True)
+    with open(a.out, "w") as out:
+        out.write(text)
+    print("wrote", a.out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
