@@ -3,13 +3,23 @@
 #pragma once
 #include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_scheduler_observer.h>
+
+#include <atomic>
+#include <memory>
+
+#include "topology.h"
 
 namespace epsray {
 
 class workers {
  public:
-  explicit workers(int threads);
+  // pin: bind each thread that works in the arena to its own core through hwloc (the
+  // calling thread too, which stays bound afterwards).
+  explicit workers(int threads, bool pin = false);
+  ~workers();
   int threads() const { return threads_; }
+  int pinned() const { return pinned_.load(); }  // threads that were bound to a core
   template <class F>
   void run(F&& f) {
     arena_.execute(std::forward<F>(f));
@@ -21,6 +31,9 @@ class workers {
   int threads_;
   tbb::global_control limit_;  // lets the arena have more threads than cores
   tbb::task_arena arena_;
+  struct pin_observer;
+  std::unique_ptr<pin_observer> pin_;
+  std::atomic<int> pinned_{0};
 };
 
 int hardware_threads();

@@ -7,12 +7,14 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "image/image_io.h"
 #include "scene/camera.h"
 #include "sched/frame_render.h"
 #include "sched/tiles.h"
+#include "sched/topology.h"
 #include "test_util.h"
 
 namespace epsray {
@@ -108,6 +110,29 @@ TEST(Frame, BuiltinSceneIdenticalForOneTwoEightThreads) {
 TEST(Frame, BuiltinSceneOddSizeIdenticalForOneTwoEightThreads) {
   world w = test::world_from_text(builtin_scene);
   check_thread_independence(w, 37, 23);
+}
+
+TEST(Topology, HwlocSeesThisMachine) {
+  machine_topology m = discover_topology();
+  EXPECT_GE(m.cores, 1);
+  EXPECT_GE(m.pus, m.cores);
+  EXPECT_GE(m.packages, 1);
+  EXPECT_NE(m.summary().find("core"), std::string::npos) << m.summary();
+}
+
+TEST(Topology, PinnedWorkersRenderTheSameImage) {
+  world w = test::world_from_text(builtin_scene);
+  const camera cam = make_camera(w.sc.view, 48, 36);
+  workers free_pool(2);
+  frame_result a = render_frame(free_pool, w, cam, frame_params{});
+  frame_result b;
+  std::thread t([&] {  // pinning binds the calling thread too: keep it off the test's thread
+    workers pinned_pool(2, true);
+    b = render_frame(pinned_pool, w, cam, frame_params{});
+    EXPECT_GE(pinned_pool.pinned(), 1) << "hwloc could not bind any thread";
+  });
+  t.join();
+  EXPECT_TRUE(same_pixels(a.img, b.img));
 }
 
 class SpdFrame : public testing::TestWithParam<const char*> {};
