@@ -1,0 +1,140 @@
+#!/usr/bin/env python3
+"""Thread scaling (issue 5): the same walks on 1, 2, ... N threads.
+
+For each scene and mode (base, interp, full), runs `epsray walk` over a short camera path
+at each thread count, interleaved, R repetitions; reports the median frame time, the
+speedup over one thread and the parallel efficiency, with the machine's hwloc topology
+(`epsray info`), and draws speedup against threads (gnuplot, when installed).
+
+    perf/scaling/bench.py [--threads 1,2,4,...] [--frames 12] [--size 640x480] [--reps 1]
+                          [--exe build/epsray] [--out perf/results/scaling.md] [SCENE ...]
+Default scenes: scenes/artroom.nff and, when present, ../shared/scenes/spd/balls-s3 and
+teapot-s6; each walks 12 frames of a slow orbit around its own camera's target.
+"""
+import argparse
+import json
+import math
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SPD = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd")
+
+
+def view_of(scene):
+    v = {"from": [0, 0, 0], "at": [0, 0, -1], "up": [0, 1, 0], "angle": 45}
+    with open(scene) as f:
+        for line in f:
+            k = line.split()
+            if k and k[0] in ("from", "at", "up"):
+                v[k[0]] = [float(x) for x in k[1:4]]
+            elif k and k[0] == "angle":
+                v["angle"] = float(k[1])
+    return v
+
+
+def orbit_path(scene, frames, out):
+    """A slow turn about the view's up axis through 'at': about 1 degree a frame."""
+    v = view_of(scene)
+    f, a, u = v["from"], v["at"], v["up"]
+    n = math.sqrt(sum(x * x for x in u)) or 1
+    u = [x / n for x in u]
+    rel = [f[i] - a[i] for i in range(3)]
+    with open(out, "w") as o:
+        for k in range(frames):
+            t = math.radians(1.0 * k)
+            # Rodrigues rotation of rel about u by t.
+            d = sum(rel[i] * u[i] for i in range(3))
+            cx = [u[1] * rel[2] - u[2] * rel[1], u[2] * rel[0] - u[0] * rel[2], u[0] * rel[1] - u[1] * rel[0]]
+            r = [rel[i] * math.cos(t) + cx[i] * math.sin(t) + u[i] * d * (1 - math.cos(t)) for i in range(3)]
+            p = [a[i] + r[i] for i in range(3)]
+            o.write("%g %g %g  %g %g %g  %g %g %g  %g\n" % (*p, *a, *u, v["angle"]))
+
+
+def walk(exe, scene, path, mode, size, threads):
+    with tempfile.TemporaryDirectory() as d:
+        stats = os.path.join(d, "s.json")
+        subprocess.run([exe, "walk", scene, "--path", path, "--mode", mode, "--size", size, "--threads",
+                        str(threads), "--quiet", "--stats", stats], check=True)
+        with open(stats) as f:
+            return json.load(f)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("scenes", nargs="*")
+    ap.add_argument("--threads", default=None, help="comma list; default 1, 2, 4, ... up to the cores")
+    ap.add_argument("--frames", type=int, default=12)
+    ap.add_argument("--size", default="640x480")
+    ap.add_argument("--reps", type=int, default=1)
+    ap.add_argument("--modes", default="base,interp,full")
+    ap.add_argument("--exe", default=os.path.join(ROOT, "build", "epsray"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "perf", "results", "scaling.md"))
+    a = ap.parse_args()
+    cores = os.cpu_count() or 1
+    if a.threads:
+        counts = [int(t) for t in a.threads.split(",")]
+    else:
+        counts, t = [], 1
+        while t < cores:
+            counts.append(t)
+            t *= 2
+        counts.append(cores)
+    scenes = a.scenes or [os.path.join(ROOT, "scenes", "artroom.nff")] + [
+        os.path.join(SPD, s + ".nff") for s in ("balls-s3", "teapot-s6") if os.path.exists(os.path.join(SPD, s + ".nff"))]
+    modes = a.modes.split(",")
+    info = subprocess.run([a.exe, "info"], capture_output=True, text=True).stdout.strip()
+    rows = []
+    with tempfile.TemporaryDirectory() as d:
+        for scene in scenes:
+            path = os.path.join(d, "orbit.path")
+            orbit_path(scene, a.frames, path)
+            name = os.path.splitext(os.path.basename(scene))[0]
+            for mode in modes:
+                times = {t: [] for t in counts}
+                for _ in range(a.reps):
+                    for t in counts:  # interleaved over thread counts
+                        times[t] += [f["ms"] for f in walk(a.exe, scene, path, mode, a.size, t)["frames"]]
+                med = {t: statistics.median(times[t]) for t in counts}
+                for t in counts:
+                    s = med[counts[0]] / med[t] * counts[0]
+                    rows.append((name, mode, t, med[t], s, s / t))
+                    print("%-10s %-6s %3d threads  %8.1f ms  speedup %5.2f  efficiency %4.2f" % rows[-1], flush=True)
+    os.makedirs(os.path.dirname(a.out), exist_ok=True)
+    lines = ["# Thread scaling (%s, %d frames, %d rep(s), median frame ms; %s)" %
+             (a.size, a.frames, a.reps, time.strftime("%Y-%m-%d %H:%M")), "", "Machine (`epsray info`):", "",
+             "```", info, "```", "",
+             "| scene | mode | threads | frame ms | speedup | efficiency |", "|---|---|---:|---:|---:|---:|"]
+    lines += ["| %s | %s | %d | %.1f | %.2f | %.2f |" % r for r in rows]
+    text = "\n".join(lines) + "\n"
+    with open(a.out, "w") as f:
+        f.write(text)
+    print("wrote", a.out)
+    if shutil.which("gnuplot"):
+        dat = os.path.splitext(a.out)[0] + ".dat"
+        png = os.path.splitext(a.out)[0] + ".png"
+        series = sorted({(r[0], r[1]) for r in rows})
+        with open(dat, "w") as f:
+            for name, mode in series:
+                f.write("# %s %s\n" % (name, mode))
+                for r in rows:
+                    if (r[0], r[1]) == (name, mode):
+                        f.write("%d %.4f\n" % (r[2], r[4]))
+                f.write("\n\n")
+        plots = ", ".join("'%s' index %d with linespoints title '%s %s'" % (dat, i, n, m)
+                          for i, (n, m) in enumerate(series))
+        script = ("set terminal pngcairo size 800,600; set output '%s'; set xlabel 'threads'; "
+                  "set ylabel 'speedup over 1 thread'; set key left top; set grid; "
+                  "plot x title 'ideal' dashtype 2, %s" % (png, plots))
+        if subprocess.run(["gnuplot", "-e", script]).returncode == 0:
+            print("wrote", png)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
