@@ -6,15 +6,11 @@ For each scene and epsilon, interleaved, R repetitions each: a `--mode base` wal
 Frame 0 of the interp walk is cold (every interpolant is built); frames 1-2 are warm
 (the linetrees of frame 0 are looked up, as when the viewer's camera rests). Reports the
 share of pixels interpolated, max and 99.9th-percentile relative error, pixels over
-epsilon, linetree memory, and the cost of an interpolated pixel relative to a traced one:
-    c = (T_interp - n_base * t_px) / n_interp / t_px,   t_px = T_base / (W * H)
-(base-traced pixels in interp mode are charged at the base rate; the rest of the
-frame's time is the interpolate path: visibility ray, lookup, and when cold building and
-the predicate), once for the cold frame and once for the warm ones.
-
-    perf/interp/bench.py [--size 800x600] [--eps 0.01,0.02,0.05,0.1,0.2] [--reps 1]
-                         [--threads N] [--out perf/results/interp.md] [SCENE ...]
-Default scenes: scenes/artroom.nff and, when present, a few of ../shared/scenes/spd.
+epsilon, linetree memory, and the cost of a pixel on each path relative to a traced one,
+from the thread time each path took (--stats path_ms):
+    c_path = (path_ms[path] / n_path) / (base walk's path_ms / (W * H))
+once for the cold frame (the interpolate path pays for building and proving cells) and
+once for the warm ones (a visibility ray, a lookup and the interpolation).
 """
 import argparse
 import json
@@ -75,36 +71,45 @@ def main():
     for scene in scenes:
         name = os.path.splitext(os.path.basename(scene))[0]
         for eps in eps_list:
-            tb, tc, tw, last = [], [], [], None
+            tb, tc, tw, tpx, last = [], [], [], [], None
             for _ in range(a.reps):  # interleaved: base, interp, base, interp, ...
-                tb += [f["ms"] for f in walk(a.exe, scene, "base", a.size, a.threads)["frames"]]
+                b = walk(a.exe, scene, "base", a.size, a.threads)["frames"]
+                tb += [f["ms"] for f in b]
+                tpx += [f["path_ms"]["base"] for f in b]
                 last = walk(a.exe, scene, "interp", a.size, a.threads, eps, verify=True)
                 tc.append(last["frames"][0]["ms"])
                 tw += [f["ms"] for f in last["frames"][1:]]
             f = last["frames"][0]
             base_ms, cold_ms, warm_ms = statistics.median(tb), statistics.median(tc), statistics.median(tw)
+            base_px_ms = statistics.median(tpx)
             n = w * h
             n_int, n_base = f["pixels"]["interp"], f["pixels"]["base"]
-            t_px = base_ms / n
-            cost = lambda t: (t - n_base * t_px) / n_int / t_px if n_int else float("nan")
+            t_px = base_px_ms / n  # thread time of a traced pixel in the base walk
+
+            def cost(frames, path):
+                px = sum(g["pixels"][path] for g in frames)
+                return sum(g["path_ms"][path] for g in frames) / px / t_px if px else float("nan")
+
             worst = max(last["frames"], key=lambda g: g["verify"]["max_rel_err"])["verify"]
             over = sum(g["verify"]["violations"] for g in last["frames"])
-            rows.append((name, eps, base_ms, cold_ms, warm_ms, base_ms / warm_ms, n_int / n, cost(cold_ms),
-                         cost(warm_ms), worst["max_rel_err"], f["verify"]["p999_rel_err"], over,
+            rows.append((name, eps, base_ms, cold_ms, warm_ms, base_ms / warm_ms, n_int / n,
+                         cost(last["frames"][:1], "interp"), cost(last["frames"][1:], "interp"),
+                         cost(last["frames"][1:], "base"), worst["max_rel_err"], f["verify"]["p999_rel_err"], over,
                          f["memory_bytes"] / 1e6))
             print("%-12s eps %-5g base %7.1f ms cold %8.1f ms warm %7.1f ms base/warm %5.2f interp %5.1f%% "
-                  "cost cold %6.2f warm %5.2f max %.4f p99.9 %.4f over %d mem %.1f MB" %
+                  "interp cost cold %6.2f warm %5.2f, traced %5.2f max %.4f p99.9 %.4f over %d mem %.1f MB" %
                   (*rows[-1][:6], 100 * rows[-1][6], *rows[-1][7:]), flush=True)
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
     with open(a.out, "w") as out:
         out.write("# Interpolants vs base (%s, %d threads, %d rep(s), median frame ms; %s)\n\n" %
                   (a.size, a.threads, a.reps, time.strftime("%Y-%m-%d %H:%M")))
         out.write("| scene | eps | base ms | interp cold ms | interp warm ms | base/warm | interpolated | "
-                  "interp pixel cost, cold (x traced) | warm | max err | 99.9% err | pixels over eps | memory MB |\n")
-        out.write("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
+                  "cost of an interpolated pixel, cold | warm | cost of a traced pixel in interp mode, warm | "
+                  "max err | 99.9% err | pixels over eps | memory MB |\n")
+        out.write("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
         for r in rows:
-            out.write("| %s | %g | %.1f | %.1f | %.1f | %.2f | %.1f%% | %.2f | %.2f | %.4f | %.4f | %d | %.1f |\n" %
-                      (r[0], r[1], r[2], r[3], r[4], r[5], 100 * r[6], r[7], r[8], r[9], r[10], r[11], r[12]))
+            out.write("| %s | %g | %.1f | %.1f | %.1f | %.2f | %.1f%% | %.2f | %.2f | %.2f | %.4f | %.4f | %d | %.1f |\n" %
+                      (r[0], r[1], r[2], r[3], r[4], r[5], 100 * r[6], r[7], r[8], r[9], r[10], r[11], r[12], r[13]))
     print("wrote", a.out)
     return 0
 
