@@ -1,11 +1,6 @@
 // cli: build/epsray run as a subprocess, held to contract.md: exit codes, exactly one
 // `file:line: what` line on stderr for bad input, nothing written on bad input, and a stats
 // JSON with the contract's fields whose numbers agree with an in-process render.
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstring>
 #include <nlohmann/json.hpp>
@@ -16,26 +11,14 @@
 #include "scene/camera.h"
 #include "scene/path_file.h"
 #include "sched/frame_render.h"
-#include "test_util.h"
-
-extern char** environ;
+#include "test_process.h"
 
 namespace epsray {
 namespace {
 
 using test::temp_dir;
 
-struct proc_result {
-  bool exited = false;  // false: killed by a signal (a crash)
-  int code = -1;
-  int signal = 0;
-  std::string out, err;
-};
-
-std::ostream& operator<<(std::ostream& os, const proc_result& r) {
-  return os << (r.exited ? "exit " + std::to_string(r.code) : "signal " + std::to_string(r.signal))
-            << ", stderr: [" << r.err << "], stdout: [" << r.out << "]";
-}
+using test::proc_result;
 
 size_t count_lines(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
 
@@ -46,34 +29,9 @@ class Cli : public testing::Test {
 
   // Runs build/epsray with `args` in `work`.
   proc_result run(const std::vector<std::string>& args) {
-    const std::string out_path = io.file("stdout"), err_path = io.file("stderr");
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&fa, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addchdir_np(&fa, work.path().c_str());
-    std::vector<std::string> all{EPSRAY_BINARY};
-    all.insert(all.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    pid_t pid = -1;
-    const int rc = posix_spawn(&pid, EPSRAY_BINARY, &fa, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&fa);
-    proc_result r;
-    if (rc != 0) {
-      ADD_FAILURE() << "cannot start " << EPSRAY_BINARY << ": " << std::strerror(rc);
-      return r;
-    }
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    r.exited = WIFEXITED(status);
-    r.code = r.exited ? WEXITSTATUS(status) : -1;
-    r.signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
-    r.out = test::read_file(out_path);
-    r.err = test::read_file(err_path);
-    return r;
+    std::vector<std::string> argv{EPSRAY_BINARY};
+    argv.insert(argv.end(), args.begin(), args.end());
+    return test::run_process(argv, work.path(), test::environment(), io);
   }
 
   void write(const std::string& name, const std::string& text) { test::write_file(work.file(name), text); }
