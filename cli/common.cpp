@@ -1,7 +1,9 @@
 #include "common.h"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <unistd.h>
 
@@ -41,6 +43,22 @@ void check_out_dir(const std::string& dir) {
   if (!writable_folder(parent))
     throw usage_error("epsray: bad --out-dir '" + dir + "': folder '" + parent.string() +
                       "' does not exist or is not writable");
+}
+
+void write_text_file(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp);
+    out << text;
+    if (!out.flush()) {
+      std::remove(tmp.c_str());
+      throw std::runtime_error(path + ": cannot write");
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot write");
+  }
 }
 
 void reject_unbuilt(const cli_options& o) {

@@ -1,5 +1,5 @@
-// What render and walk share: output checks before any work, and the frame parameters
-// the command line sets.
+// What the commands share: output checks before any work, text files written whole, and
+// the frame parameters the command line sets.
 #pragma once
 #include <string>
 
@@ -13,6 +13,9 @@ namespace epsray {
 void check_writable(const std::string& file, const char* flag);
 // An output folder: an existing folder, or one that can be made in a writable parent.
 void check_out_dir(const std::string& dir);
+// Writes `text` to a temporary beside `path`, renamed over it once complete, so a reader
+// never sees half a file. Throws std::runtime_error when it cannot.
+void write_text_file(const std::string& path, const std::string& text);
 // Commands not built yet fail before any work, with a clear message (exit 1).
 void reject_unbuilt(const cli_options& o);
 // A NaN or infinite pixel is an internal error: nothing is written.

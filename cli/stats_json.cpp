@@ -1,10 +1,9 @@
 #include "stats_json.h"
 
-#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <stdexcept>
-#include <unistd.h>
+
+#include "common.h"
 
 namespace epsray {
 
@@ -45,19 +44,7 @@ void write_stats_json(const run_record& r, const std::string& path) {
   }
   j["total_ms"] = r.total_ms;
   j["peak_memory_bytes"] = r.peak_memory_bytes;
-  std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp);
-    out << j.dump(2) << "\n";
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error(path + ": cannot write");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write");
-  }
+  write_text_file(path, j.dump(2) + "\n");
 }
 
 }  // namespace epsray
