@@ -46,7 +46,8 @@ std::string usage_text() {
          "                      [--eps E] [--threads N] [--png OUT.png] [--pfm OUT.pfm] [--stats OUT.json]\n"
          "       epsray walk   SCENE --path FILE [--size WxH] [--mode M] [--eps E] [--threads N]\n"
          "                      [--out-dir DIR] [--png] [--pfm] [--stats OUT.json] [--verify]\n"
-         "       epsray view   SCENE [--path FILE] [--size WxH] [--eps E]\n"
+         "       epsray view   [SCENE] [--path FILE] [--size WxH] [--eps E] [--threads N]\n"
+         "                      [--record FILE] [--script FILE] [--screenshot OUT.png]\n"
          "       epsray info\n"
          "extra: --tile-rows N (rows per tile), --quiet (no summary on stdout),\n"
          "       --reasons OUT.png (render: the error-coded image), --verify (render too),\n"
@@ -61,12 +62,17 @@ cli_options parse_args(const std::vector<std::string>& a) {
   if (o.command != "render" && o.command != "walk" && o.command != "view" && o.command != "info")
     bad("unknown command '" + o.command + "' (render, walk, view or info)");
   const bool walk = o.command == "walk";
+  const bool view = o.command == "view";
   for (size_t i = 1; i < a.size(); ++i) {
     const std::string& f = a[i];
     auto value = [&]() -> const std::string& {
       if (i + 1 >= a.size()) bad(f + " needs a value");
       return a[++i];
     };
+    // The viewer always renders in full mode and writes only what its own flags name.
+    if (view && (f == "--mode" || f == "--frame" || f == "--png" || f == "--pfm" || f == "--stats" ||
+                 f == "--verify" || f == "--reasons" || f == "--quiet"))
+      bad("unknown option '" + f + "' for view");
     if (f.rfind("--", 0) != 0) {
       if (!o.scene.empty() || o.command == "info") bad("unexpected argument '" + f + "'");
       o.scene = f;
@@ -87,6 +93,9 @@ cli_options parse_args(const std::vector<std::string>& a) {
       else o.pfm = value();
     } else if (f == "--stats") o.stats = value();
     else if (f == "--out-dir" && walk) o.out_dir = value();
+    else if (f == "--record" && view) o.record = value();
+    else if (f == "--script" && view) o.script = value();
+    else if (f == "--screenshot" && view) o.screenshot = value();
     else if (f == "--verify") o.verify = true;
     else if (f == "--reasons" && !walk) o.reasons = value();
     else if (f == "--min-cell-pixels") o.min_cell_pixels = float(to_number("--min-cell-pixels", value(), 0, 1e9));
@@ -97,9 +106,11 @@ cli_options parse_args(const std::vector<std::string>& a) {
     } else if (f == "--quiet") o.quiet = true;
     else bad("unknown option '" + f + "' for " + o.command);
   }
-  if (o.command != "info" && o.scene.empty()) bad(o.command + " needs a SCENE file");
+  if (o.command != "info" && !view && o.scene.empty()) bad(o.command + " needs a SCENE file");  // view: the art room
   if (o.frame && o.path.empty()) bad("--frame needs --path");
   if (walk && o.path.empty()) bad("walk needs --path FILE");
+  if (!o.script.empty() && !o.screenshot.empty())
+    bad("--screenshot and --script do not combine; use the script's screenshot command");
   if (walk && (o.png_flag || o.pfm_flag) && o.out_dir.empty()) bad("--png/--pfm with walk need --out-dir DIR");
   return o;
 }

@@ -25,6 +25,7 @@ struct cli_options {
   int threads = 0;  // 0: all hardware threads
   int tile_rows = 0;
   std::string png, pfm, stats, out_dir, reasons;
+  std::string record, script, screenshot;  // view only
   float min_cell_pixels = 16;
   bool four_way = true;
   bool png_flag = false, pfm_flag = false, verify = false, quiet = false;

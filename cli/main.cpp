@@ -9,6 +9,7 @@
 #include "args.h"
 #include "common.h"
 #include "walk.h"
+#include "viewer/view.h"
 #include "image/image_io.h"
 #include "scene/input_error.h"
 #include "scene/nff.h"
@@ -109,6 +110,7 @@ int main(int argc, char** argv) {
     cli_options o = parse_args(args);
     if (o.command == "info") return run_info();
     if (o.command == "walk") return run_walk(o);
+    if (o.command == "view") return run_view(o);
     return run_render(o);
   } catch (const input_error& e) {
     std::cerr << e.what() << "\n";

@@ -363,11 +363,11 @@ TEST_F(Cli, WalkFramesMatchRendersOfThePathAndIgnoreThreads) {
 }
 
 // --- modes and commands still being built: never a crash, and a failure says why -----------
-// (interp, full, walk and view may succeed or fail with exit 1 while they land; the message
-// is not pinned)
+// (interp, full and walk may succeed or fail with exit 1 while they land; the message is not
+// pinned; view, which waits for its user, is held to its own tests in test_viewer.cpp)
 
 std::string unfinished_name(const testing::TestParamInfo<std::vector<std::string>>& i) {
-  static const char* names[] = {"interp", "full", "default_mode_eps_0", "walk", "view"};
+  static const char* names[] = {"interp", "full", "default_mode_eps_0", "walk"};
   return names[i.index];
 }
 
@@ -390,8 +390,7 @@ INSTANTIATE_TEST_SUITE_P(
                     std::vector<std::string>{"render", "good.nff", "--mode", "full", "--size", "8x6"},
                     std::vector<std::string>{"render", "good.nff", "--size", "8x6", "--eps", "0"},
                     std::vector<std::string>{"walk", "good.nff", "--path", "two.path", "--size", "8x6", "--mode",
-                                             "base"},
-                    std::vector<std::string>{"view", "good.nff", "--size", "8x6"}),
+                                             "base"}),
     unfinished_name);
 
 }  // namespace

@@ -1,0 +1,44 @@
+// A finished frame as the window shows it: 8-bit sRGB bytes for every display mode, made
+// on the render thread so that the window thread only uploads a texture.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "scene/scene.h"
+#include "sched/frame_render.h"
+
+namespace epsray {
+
+// Tab cycles them in this order.
+enum class display_mode { image, reasons, paths };
+constexpr int display_mode_count = 3;
+const char* display_mode_name(display_mode m);
+bool parse_display_mode(std::string_view s, display_mode& out);
+
+using rgb8 = std::array<unsigned char, 3>;
+// The paths display: fast (reprojected), interp, base, as sRGB bytes (the HUD's legend too).
+extern const std::array<rgb8, 3> path_colours;
+
+struct frame_stats {
+  double ms = 0, reproject_ms = 0;
+  path_times path_ms;
+  pixel_counts pixels;
+  std::uint64_t memory_bytes = 0;
+};
+
+struct shown_frame {
+  std::uint64_t id = 0;  // the request it answers
+  camera_view view;
+  float eps = 0;  // the bound it was rendered with
+  int width = 0, height = 0;
+  std::array<std::vector<unsigned char>, display_mode_count> rgb;  // RGB rows, top row first
+  frame_stats stats;
+};
+
+// Fills `out` from a frame rendered with frame_params::reasons. The byte buffers keep their
+// capacity from frame to frame: nothing is allocated once the size is steady.
+void fill_shown_frame(const frame_result& fr, shown_frame& out);
+
+}  // namespace epsray
