@@ -1,0 +1,328 @@
+// viewer: the pieces of `epsray view` that need no window (script parsing, camera moves,
+// screenshot bytes), then build/epsray view as a subprocess. Without a display it refuses in
+// one line; under an Xvfb that the test starts itself it is driven by --script, and its
+// screenshots must show the rendered frame (compared with `epsray render` of the same
+// camera), the HUD, the error-coded and per-path displays, and recorded and played paths.
+#include <poll.h>
+#include <stb/stb_image.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "image/image_io.h"
+#include "interp/interp_shade.h"
+#include "scene/input_error.h"
+#include "scene/path_file.h"
+#include "test_process.h"
+#include "viewer/camera_control.h"
+#include "viewer/frame_bytes.h"
+#include "viewer/screenshot.h"
+#include "viewer/script.h"
+
+namespace epsray {
+namespace {
+
+using test::temp_dir;
+
+// --- without a window ------------------------------------------------------------------
+
+TEST(ViewerScript, ParsesEveryCommand) {
+  const script s = parse_script(
+      "# a comment\n"
+      "frames 3\nrefine\nkey w 2\ndrag 10 -5\npress Tab\npress ]\nmode reasons\neps 0.1\nhud off\n"
+      "screenshot out.png\nquit\n",
+      "t.script");
+  ASSERT_EQ(s.steps.size(), 11u);
+  EXPECT_EQ(s.steps[0].op, script_op::frames);
+  EXPECT_EQ(s.steps[0].count, 3);
+  EXPECT_EQ(s.steps[2].op, script_op::key);
+  EXPECT_EQ(s.steps[2].count, 2);
+  EXPECT_EQ(s.steps[3].x, 10);
+  EXPECT_EQ(s.steps[3].y, -5);
+  EXPECT_EQ(s.steps[6].mode, display_mode::reasons);
+  EXPECT_FLOAT_EQ(s.steps[7].x, 0.1f);
+  EXPECT_FALSE(s.steps[8].on);
+  EXPECT_EQ(s.steps[9].file, "out.png");
+  EXPECT_EQ(s.steps[10].op, script_op::quit);
+}
+
+TEST(ViewerScript, BadLinesNameTheLine) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"frames\n", "expected 'frames N'"},
+      {"frames 0\n", "frames"},
+      {"key P 3\n", "not one of W A S D Q E"},
+      {"press W\n", "cannot press 'W'"},
+      {"mode fancy\n", "not image, reasons or paths"},
+      {"eps -1\n", "eps must be"},
+      {"hud maybe\n", "hud on"},
+      {"screenshot /no/such/folder/x.png\n", "does not exist"},
+      {"jump\n", "unknown command 'jump'"},
+  };
+  for (const auto& [text, phrase] : cases) {
+    try {
+      parse_script(std::string("refine\n") + text, "t.script");
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const input_error& e) {
+      EXPECT_EQ(e.line, 2) << text;
+      EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(ViewerCamera, MovesKeepTheViewAndStopShortOfUp) {
+  const camera_view home{{0, 1, 5}, {0, 1, 0}, {0, 1, 0}, 40};
+  camera_view v = home;
+  fly(v, move_keys{}, 2, 1);
+  look(v, 0, 0);
+  EXPECT_TRUE(same_view(v, home)) << "no input leaves the view bit for bit";
+  move_keys fwd;
+  fwd.forward = true;
+  fly(v, fwd, 2, 0.5f);
+  EXPECT_NEAR(v.from.z, 4, 1e-6);
+  EXPECT_NEAR(v.at.z, -1, 1e-6);
+  look(v, 360, 0);  // 90 degrees right: from looking down -z to looking down +x
+  EXPECT_NEAR(glm::length(v.at - v.from), 5, 1e-5);
+  EXPECT_NEAR(v.at.x - v.from.x, 5, 1e-4);
+  look(v, 0, -10000);  // far up: stops at 89 degrees
+  const vec3 f = glm::normalize(v.at - v.from);
+  EXPECT_NEAR(std::asin(f.y), glm::radians(89.0f), 1e-4);
+}
+
+TEST(ViewerScreenshot, ScreenBytesSurviveWritePng) {
+  for (int b = 0; b < 256; ++b) EXPECT_EQ(srgb_byte(linear_from_srgb_byte((unsigned char)b)), b);
+}
+
+// --- build/epsray view as a subprocess --------------------------------------------------
+
+using test::proc_result;
+
+// build/epsray `args` in `dir`, with DISPLAY set to `display` (unset when empty).
+proc_result run_epsray(const std::vector<std::string>& args, const temp_dir& dir, const std::string& display) {
+  std::vector<std::string> argv{EPSRAY_BINARY};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const auto env = display.empty() ? test::environment({"DISPLAY", "WAYLAND_DISPLAY"})
+                                   : test::environment({"DISPLAY", "WAYLAND_DISPLAY"}, {"DISPLAY=" + display});
+  return test::run_process(argv, dir.path(), env, dir, 60);
+}
+
+std::string scene_file(const char* name) { return std::string(EPSRAY_SOURCE_DIR) + "/scenes/tests/" + name; }
+
+TEST(ViewerCli, NoDisplayIsOneLineAndExitTwo) {
+  temp_dir dir;
+  const proc_result r = run_epsray({"view", scene_file("sphere.nff"), "--size", "160x120"}, dir, "");
+  ASSERT_TRUE(r.exited) << r;
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r;
+  EXPECT_EQ(r.err.rfind("epsray: view needs a display", 0), 0u) << r;
+  EXPECT_TRUE(r.out.empty()) << r;
+}
+
+TEST(ViewerCli, BadScriptIsBadInputBeforeAnyWindow) {
+  temp_dir dir;
+  test::write_file(dir.file("bad.script"), "frames 1\nfly 3\n");
+  const proc_result r = run_epsray({"view", scene_file("sphere.nff"), "--script", "bad.script"}, dir, ":0");
+  ASSERT_TRUE(r.exited) << r;
+  EXPECT_EQ(r.code, 2) << r;
+  EXPECT_EQ(r.err, "bad.script:2: unknown command 'fly' (frames, refine, key, drag, press, mode, eps, hud, "
+                   "screenshot, quit)\n");
+}
+
+// An Xvfb of its own: -displayfd makes the server pick a free display and say which, so
+// tests running side by side never race for one (as xvfb-run -a can).
+class xvfb {
+ public:
+  xvfb() {
+    for (const char* p : {"/usr/bin/Xvfb", "/usr/local/bin/Xvfb"})
+      if (::access(p, X_OK) == 0) binary_ = p;
+    if (binary_.empty()) return;
+    int fds[2];
+    if (pipe(fds) != 0) return;
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addclose(&fa, fds[0]);
+    posix_spawn_file_actions_adddup2(&fa, fds[1], 3);
+    posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+    std::vector<std::string> args{binary_, "-displayfd", "3", "-screen", "0", "1024x768x24", "-nolisten", "tcp"};
+    std::vector<std::string> env = test::environment({"DISPLAY"});
+    if (posix_spawn(&pid_, binary_.c_str(), &fa, nullptr, test::c_strings(args).data(), test::c_strings(env).data()) !=
+        0)
+      pid_ = -1;
+    posix_spawn_file_actions_destroy(&fa);
+    close(fds[1]);
+    // The display number, then a newline, once the server accepts connections.
+    std::string number;
+    pollfd pfd{fds[0], POLLIN, 0};
+    char c;
+    while (pid_ > 0 && poll(&pfd, 1, 10000) == 1 && read(fds[0], &c, 1) == 1 && c != '\n') number += c;
+    close(fds[0]);
+    if (!number.empty()) display_ = ":" + number;
+  }
+  ~xvfb() {
+    if (pid_ <= 0) return;
+    kill(pid_, SIGTERM);
+    int status;
+    test::wait_or_kill(pid_, 10, status);
+  }
+  bool installed() const { return !binary_.empty(); }
+  const std::string& display() const { return display_; }
+
+ private:
+  std::string binary_, display_;
+  pid_t pid_ = -1;
+};
+
+#define EPSRAY_START_XVFB(x)                                                  \
+  xvfb x;                                                                     \
+  if (!x.installed()) GTEST_SKIP() << "Xvfb is not installed (Debian: xvfb)"; \
+  ASSERT_FALSE(x.display().empty()) << "Xvfb did not start"
+
+struct png {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgb;
+  const unsigned char* at(int x, int y) const { return &rgb[(size_t(y) * size_t(width) + size_t(x)) * 3]; }
+};
+
+png read_png(const std::string& path) {
+  png p;
+  int comp = 0;
+  unsigned char* data = stbi_load(path.c_str(), &p.width, &p.height, &comp, 3);
+  if (!data) {
+    ADD_FAILURE() << path << ": " << stbi_failure_reason();
+    return p;
+  }
+  p.rgb.assign(data, data + size_t(p.width) * size_t(p.height) * 3);
+  stbi_image_free(data);
+  return p;
+}
+
+// The largest byte difference of two screenshots; `differing` counts the pixels where any
+// channel differs by more than 24 (far beyond an epsilon).
+int max_difference(const png& a, const png& b, int* differing = nullptr) {
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_EQ(a.height, b.height);
+  if (a.rgb.size() != b.rgb.size()) return 256;
+  int worst = 0, count = 0;
+  for (size_t i = 0; i < a.rgb.size(); i += 3) {
+    int d = 0;
+    for (size_t c = 0; c < 3; ++c) d = std::max(d, std::abs(int(a.rgb[i + c]) - int(b.rgb[i + c])));
+    worst = std::max(worst, d), count += d > 24;
+  }
+  if (differing) *differing = count;
+  return worst;
+}
+
+// How far apart, in sRGB bytes, a pixel within `eps` of the Whitted radiance may be from it:
+// a relative change eps of a linear value moves its sRGB code by at most about eps/2.4 of
+// it (the curve's exponent), the dark linear segment by less; plus one byte of rounding.
+int byte_tolerance(double eps) { return 1 + int(std::ceil(255 * eps / 2.4)); }
+
+class ViewerXvfb : public testing::Test {
+ protected:
+  temp_dir dir;
+  const std::string scene = scene_file("shapes.nff");  // interpolates at 160x120, unlike sphere.nff
+  static constexpr double eps = 0.05;
+
+  proc_result view(std::vector<std::string> args, const std::string& display, const char* size = "160x120") {
+    args.insert(args.begin(), {"view", scene, "--size", size, "--eps", "0.05"});
+    return run_epsray(args, dir, display);
+  }
+  // `epsray render` in base mode (Whitted, every pixel traced) of the scene's view or of
+  // frame `frame` of `path`.
+  png render(const std::string& path = "", int frame = 0, const char* size = "160x120") {
+    std::vector<std::string> args{"render", scene, "--mode", "base", "--size", size, "--png", "ref.png", "--quiet"};
+    if (!path.empty()) args.insert(args.end(), {"--path", path, "--frame", std::to_string(frame)});
+    const proc_result r = run_epsray(args, dir, "");
+    EXPECT_EQ(r.code, 0) << r;
+    return read_png(dir.file("ref.png"));
+  }
+};
+
+TEST_F(ViewerXvfb, ScreenshotsShowTheFrameEachDisplayAndTheHud) {
+  EPSRAY_START_XVFB(x);
+  test::write_file(dir.file("s.script"),
+                   "hud off\nrefine\nscreenshot image.png\n"
+                   "mode reasons\nscreenshot reasons.png\n"
+                   "press Tab\nscreenshot paths.png\n"
+                   "press Tab\npress F1\nscreenshot hud.png\n");
+  const proc_result r = view({"--script", "s.script"}, x.display());
+  ASSERT_EQ(r.code, 0) << r;
+
+  // The image within epsilon of Whitted, pixel for pixel.
+  const png image = read_png(dir.file("image.png"));
+  const png whitted = render();
+  ASSERT_EQ(image.width, 160);
+  ASSERT_EQ(image.height, 120);
+  EXPECT_LE(max_difference(image, whitted), byte_tolerance(eps));
+
+  // The error-coded image holds only the paper's colours; the paths display only the paths'
+  // colours, with pixels that were not traced among them.
+  std::set<rgb8> reason_bytes;
+  for (int r = 0; r <= int(pixel_reason::reprojected); ++r) {
+    const glm::vec3 c = reason_colour(pixel_reason(r));
+    reason_bytes.insert(rgb8{srgb_byte(c.x), srgb_byte(c.y), srgb_byte(c.z)});
+  }
+  const png reasons = read_png(dir.file("reasons.png"));
+  const png paths = read_png(dir.file("paths.png"));
+  int not_traced = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int px = 0; px < 160; ++px) {
+      const unsigned char* c = reasons.at(px, y);
+      ASSERT_TRUE(reason_bytes.count(rgb8{c[0], c[1], c[2]})) << "reasons pixel " << px << "," << y;
+      const unsigned char* p = paths.at(px, y);
+      const auto is = [&](int i) { return std::equal(p, p + 3, path_colours[size_t(i)].begin()); };
+      ASSERT_TRUE(is(0) || is(1) || is(2)) << "paths pixel " << px << "," << y;
+      not_traced += is(0) || is(1);
+    }
+  EXPECT_GT(not_traced, 100);
+
+  // The HUD covers the top left when shown.
+  int differing = 0;
+  max_difference(read_png(dir.file("hud.png")), image, &differing);
+  EXPECT_GT(differing, 160 * 120 / 10);
+}
+
+TEST_F(ViewerXvfb, RecordedAndPlayedPathsMatchRenderAndWalk) {
+  EPSRAY_START_XVFB(x);
+  test::write_file(dir.file("play.path"),
+                   "0 3.2 7  0 0.6 0  0 1 0  40\n"
+                   "1 3 6.5  0 0.6 0  0 1 0  40\n"
+                   "2 2.8 6  0 0.6 0  0 1 0  38\n");
+  test::write_file(dir.file("s.script"),
+                   "hud off\npress P\nkey W 3\ndrag 30 -10\nkey D 2\npress P\nrefine\nscreenshot moved.png\n"
+                   "press L\nframes 3\nrefine\nscreenshot played.png\n");
+  const proc_result r = view({"--script", "s.script", "--record", "rec.path", "--path", "play.path"}, x.display());
+  ASSERT_EQ(r.code, 0) << r;
+
+  // One camera per frame rendered while recording: 3 + 1 + 2, the last one on screen.
+  const camera_path rec = load_camera_path(dir.file("rec.path"));
+  ASSERT_EQ(rec.frames.size(), 6u);
+  EXPECT_GT(glm::length(rec.frames[5].from - vec3(0, 3.2f, 7)), 0.05f) << "the camera moved";
+  EXPECT_LE(max_difference(read_png(dir.file("moved.png")), render("rec.path", 5)), byte_tolerance(eps));
+  // Playing ends on the path's last camera.
+  EXPECT_LE(max_difference(read_png(dir.file("played.png")), render("play.path", 2)), byte_tolerance(eps));
+}
+
+TEST_F(ViewerXvfb, ScreenshotFlagSavesTheRefinedFrameAndExits) {
+  EPSRAY_START_XVFB(x);
+  const proc_result r = view({"--screenshot", "shot.png"}, x.display(), "640x480");
+  ASSERT_EQ(r.code, 0) << r;
+  const png shot = read_png(dir.file("shot.png"));
+  ASSERT_EQ(shot.width, 640);
+  ASSERT_EQ(shot.height, 480);
+  // The HUD is on, over the top left; the rows below it show the image.
+  const png whitted = render("", 0, "640x480");
+  int worst = 0;
+  for (int y = 360; y < 480; ++y)
+    for (int px = 0; px < 640; ++px)
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(shot.at(px, y)[c]) - int(whitted.at(px, y)[c])));
+  EXPECT_LE(worst, byte_tolerance(eps));
+  int differing = 0;
+  max_difference(shot, whitted, &differing);
+  EXPECT_GT(differing, 1000) << "the HUD is drawn";
+}
+
+}  // namespace
+}  // namespace epsray
