@@ -52,7 +52,8 @@ std::string usage_text() {
          "extra: --tile-rows N (rows per tile), --quiet (no summary on stdout),\n"
          "       --reasons OUT.png (render: the error-coded image), --verify (render too),\n"
          "       --min-cell-pixels P (no linetree cell is split into children covering fewer pixels),\n"
-         "       --split 4|16 (halve the axes a failure points at, or always all four)\n";
+         "       --split 4|16 (halve the axes a failure points at, or always all four),\n"
+         "       --pin (bind each worker thread to its own core, through hwloc)\n";
 }
 
 cli_options parse_args(const std::vector<std::string>& a) {
@@ -71,7 +72,7 @@ cli_options parse_args(const std::vector<std::string>& a) {
     };
     // The viewer always renders in full mode and writes only what its own flags name.
     if (view && (f == "--mode" || f == "--frame" || f == "--png" || f == "--pfm" || f == "--stats" ||
-                 f == "--verify" || f == "--reasons" || f == "--quiet"))
+                 f == "--verify" || f == "--reasons" || f == "--quiet" || f == "--pin"))
       bad("unknown option '" + f + "' for view");
     if (f.rfind("--", 0) != 0) {
       if (!o.scene.empty() || o.command == "info") bad("unexpected argument '" + f + "'");
@@ -104,6 +105,7 @@ cli_options parse_args(const std::vector<std::string>& a) {
       if (v != "4" && v != "16") bad("bad --split '" + v + "': expected 4 or 16");
       o.four_way = v == "4";
     } else if (f == "--quiet") o.quiet = true;
+    else if (f == "--pin") o.pin = true;
     else bad("unknown option '" + f + "' for " + o.command);
   }
   if (o.command != "info" && !view && o.scene.empty()) bad(o.command + " needs a SCENE file");  // view: the art room

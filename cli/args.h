@@ -28,6 +28,7 @@ struct cli_options {
   std::string record, script, screenshot;  // view only
   float min_cell_pixels = 16;
   bool four_way = true;
+  bool pin = false;  // bind worker threads to cores (hwloc)
   bool png_flag = false, pfm_flag = false, verify = false, quiet = false;
 };
 

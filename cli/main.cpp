@@ -14,6 +14,7 @@
 #include "scene/input_error.h"
 #include "scene/nff.h"
 #include "scene/path_file.h"
+#include "sched/topology.h"
 #include "sched/verify.h"
 #include "stats_json.h"
 
@@ -22,7 +23,8 @@ using namespace epsray;
 namespace {
 
 int run_info() {
-  std::cout << "epsray 0.1\nhardware threads: " << hardware_threads() << "\n";
+  std::cout << "epsray 0.1\nhardware threads: " << hardware_threads() << "\n"
+            << "topology (hwloc): " << discover_topology().summary() << "\n";
   return 0;
 }
 
@@ -48,7 +50,7 @@ int run_render(const cli_options& o) {
   int threads = o.threads ? o.threads : hardware_threads();
   // The worker threads are start-up (contract: total_ms excludes it): started and woken
   // before the clock, as a walk or the viewer does once for all its frames.
-  workers pool(threads);
+  workers pool(threads, o.pin);
   pool.warm_up();
   auto t0 = std::chrono::steady_clock::now();
   world w = make_world(std::move(sc));

@@ -48,7 +48,7 @@ int run_walk(const cli_options& o) {
   const int width = o.size ? o.size->first : sc.view.width;
   const int height = o.size ? o.size->second : sc.view.height;
   const int threads = o.threads ? o.threads : hardware_threads();
-  workers pool(threads);
+  workers pool(threads, o.pin);
   pool.warm_up();
   const bool bar = !o.quiet && ::isatty(STDERR_FILENO);
   if (!o.out_dir.empty()) std::filesystem::create_directories(o.out_dir);

@@ -307,6 +307,8 @@ TEST_F(Cli, TinyButValidSceneNeverCrashes) {
 TEST_F(Cli, InfoAndHelp) {
   proc_result r = run({"info"});
   EXPECT_TRUE(r.exited && r.code == 0) << r;
+  EXPECT_NE(r.out.find("topology (hwloc): "), std::string::npos) << r;
+  EXPECT_NE(r.out.find(" core"), std::string::npos) << r;
   r = run({"--help"});
   EXPECT_TRUE(r.exited && r.code == 0) << r;
   EXPECT_NE(r.out.find("usage"), std::string::npos);
@@ -338,6 +340,18 @@ TEST_F(Cli, WalkWritesEveryFrameStatsAndVerifies) {
     for (const char* path : {"fast", "interp", "base"})
       EXPECT_EQ(f["path_ms"][path].get<double>() > 0, f["pixels"][path].get<int>() > 0) << path;
   }
+}
+
+TEST_F(Cli, PinnedThreadsGiveTheSameImage) {
+  write("good.nff", good_scene);
+  for (const char* pin : {"", "--pin"}) {
+    std::vector<std::string> args{"render", "good.nff", "--mode", "interp", "--size", "32x24", "--threads", "2",
+                                  "--pfm", std::string(pin[0] ? "pinned" : "free") + ".pfm", "--quiet"};
+    if (pin[0]) args.push_back(pin);
+    const proc_result r = run(args);
+    ASSERT_EQ(r.code, 0) << r;
+  }
+  EXPECT_EQ(test::read_file(work.file("pinned.pfm")), test::read_file(work.file("free.pfm")));
 }
 
 TEST_F(Cli, WalkFramesMatchRendersOfThePathAndIgnoreThreads) {
