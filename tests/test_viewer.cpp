@@ -49,13 +49,24 @@ TEST(ViewerScript, ParsesEveryCommand) {
   EXPECT_EQ(s.steps[10].op, script_op::quit);
 }
 
+TEST(ViewerScript, PickChoosesTheCellsDisplay) {
+  const script s = parse_script("pick 0.25 0.75\nmode cells\n", "t.script");
+  ASSERT_EQ(s.steps.size(), 2u);
+  EXPECT_EQ(s.steps[0].op, script_op::pick);
+  EXPECT_FLOAT_EQ(s.steps[0].x, 0.25f);
+  EXPECT_FLOAT_EQ(s.steps[0].y, 0.75f);
+  EXPECT_EQ(s.steps[1].mode, display_mode::cells);
+}
+
 TEST(ViewerScript, BadLinesNameTheLine) {
   const std::pair<const char*, const char*> cases[] = {
       {"frames\n", "expected 'frames N'"},
       {"frames 0\n", "frames"},
       {"key P 3\n", "not one of W A S D Q E"},
       {"press W\n", "cannot press 'W'"},
-      {"mode fancy\n", "not image, reasons or paths"},
+      {"mode fancy\n", "not image, reasons, paths or cells"},
+      {"pick 0.5\n", "expected 'pick FX FY'"},
+      {"pick 1.5 0.5\n", "fractions of the image"},
       {"eps -1\n", "eps must be"},
       {"hud maybe\n", "hud on"},
       {"screenshot /no/such/folder/x.png\n", "does not exist"},
@@ -135,7 +146,7 @@ TEST(ViewerCli, BadScriptIsBadInputBeforeAnyWindow) {
   const proc_result r = run_epsray({"view", scene_file("sphere.nff"), "--script", "bad.script"}, dir, ":0");
   ASSERT_TRUE(r.exited) << r;
   EXPECT_EQ(r.code, 2) << r;
-  EXPECT_EQ(r.err, "bad.script:2: unknown command 'fly' (frames, refine, key, drag, press, mode, eps, hud, "
+  EXPECT_EQ(r.err, "bad.script:2: unknown command 'fly' (frames, refine, key, drag, press, mode, pick, eps, hud, "
                    "screenshot, quit)\n");
 }
 
@@ -255,7 +266,7 @@ TEST_F(ViewerXvfb, ScreenshotsShowTheFrameEachDisplayAndTheHud) {
                    "hud off\nrefine\nscreenshot image.png\n"
                    "mode reasons\nscreenshot reasons.png\n"
                    "press Tab\nscreenshot paths.png\n"
-                   "press Tab\npress F1\nscreenshot hud.png\n");
+                   "press Tab\npress Tab\npress F1\nscreenshot hud.png\n");
   const proc_result r = view({"--script", "s.script"}, x.display());
   ASSERT_EQ(r.code, 0) << r;
 
@@ -291,6 +302,30 @@ TEST_F(ViewerXvfb, ScreenshotsShowTheFrameEachDisplayAndTheHud) {
   int differing = 0;
   max_difference(read_png(dir.file("hud.png")), image, &differing);
   EXPECT_GT(differing, 160 * 120 / 10);
+}
+
+TEST_F(ViewerXvfb, CellsDisplayOutlinesThePickedObjectsCells) {
+  EPSRAY_START_XVFB(x);
+  // The middle of shapes.nff's view is an object drawn with interpolants at this size.
+  test::write_file(dir.file("s.script"), "hud off\nrefine\npick 0.5 0.5\nframes 1\nscreenshot cells.png\n");
+  const proc_result r = view({"--script", "s.script"}, x.display(), "320x240");
+  ASSERT_EQ(r.code, 0) << r;
+  const png cells = read_png(dir.file("cells.png"));
+  const png whitted = render("", 0, "320x240");
+  ASSERT_EQ(cells.width, 320);
+  // Everything but the picked object is dimmed; the object shows its cells, outlined in
+  // near-black where neighbouring pixels fall in different cells.
+  int dimmed = 0, outline_near_middle = 0;
+  for (int y = 0; y < 240; ++y)
+    for (int px = 0; px < 320; ++px) {
+      const unsigned char* c = cells.at(px, y);
+      const unsigned char* w = whitted.at(px, y);
+      dimmed += int(c[0]) + int(c[1]) + int(c[2]) + 60 < int(w[0]) + int(w[1]) + int(w[2]);
+      const bool dark = c[0] <= 40 && c[1] <= 40 && c[2] <= 40;
+      outline_near_middle += dark && std::abs(px - 160) < 30 && std::abs(y - 120) < 30;
+    }
+  EXPECT_GT(dimmed, 320 * 240 / 2);
+  EXPECT_GT(outline_near_middle, 10);
 }
 
 TEST_F(ViewerXvfb, RecordedAndPlayedPathsMatchRenderAndWalk) {

@@ -51,6 +51,8 @@ struct request_log {
   bool any = false;
   camera_view view;  // of the last request
   float eps = 0;
+  bool cells = false;
+  float pick_x = 0, pick_y = 0;
   std::uint64_t id = 0;
 };
 
@@ -130,6 +132,7 @@ int run_view(const cli_options& given) {
       for (const key_binding& b : key_bindings())
         if (b.held && win.key_held(b.key)) set_move_key(keys, b.key);
       win.drag(dx, dy);
+      if (win.take_pick(st.pick_x, st.pick_y)) st.mode = display_mode::cells;
     }
     if (st.play < 0) {
       fly(st.view, keys, st.speed, seconds);
@@ -142,9 +145,12 @@ int run_view(const cli_options& given) {
       const double still = std::chrono::duration<double>(now - last_move).count();
       const bool moving = changed || (!scripted && still < settle_seconds);
       const float eps = moving ? moving_eps(st.eps) : st.eps;
-      if (scripted ? render : changed || next_camera || eps != last.eps) {
-        last.id = renderer.request({st.view, eps});
+      const bool cells = st.mode == display_mode::cells;
+      const bool display_changed = cells != last.cells || (cells && (st.pick_x != last.pick_x || st.pick_y != last.pick_y));
+      if (scripted ? render : changed || next_camera || eps != last.eps || display_changed) {
+        last.id = renderer.request({st.view, eps, cells, st.pick_x, st.pick_y});
         last.any = true, last.view = st.view, last.eps = eps;
+        last.cells = cells, last.pick_x = st.pick_x, last.pick_y = st.pick_y;
       }
       // A script turns as soon as its frame is on screen. A user's loop turns often only
       // while keys move the camera or a path plays, wakes for the refined frame once the

@@ -19,7 +19,7 @@ const std::vector<key_binding>& key_bindings() {
       {"-", GLFW_KEY_MINUS, false, "slower (or scroll down)"},
       {"]", GLFW_KEY_RIGHT_BRACKET, false, "epsilon x1.5"},
       {"[", GLFW_KEY_LEFT_BRACKET, false, "epsilon /1.5"},
-      {"Tab", GLFW_KEY_TAB, false, "display: image, reasons, paths"},
+      {"Tab", GLFW_KEY_TAB, false, "display: image, reasons, paths, cells"},
       {"R", GLFW_KEY_R, false, "reset view and speed"},
       {"P", GLFW_KEY_P, false, "record the camera path (--record)"},
       {"L", GLFW_KEY_L, false, "play the camera path (--path)"},

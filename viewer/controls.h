@@ -27,6 +27,7 @@ struct viewer_state {
   float home_speed = 1, speed = 1;  // world units per second
   float eps = 0.05f;                // the user's bound; moving_eps while the camera moves
   display_mode mode = display_mode::image;
+  float pick_x = 0.5f, pick_y = 0.5f;  // the cells display's object: under this point
   bool hud = true, quit = false;
   path_recorder rec;
   const camera_path* path = nullptr;  // --path, played by L

@@ -12,6 +12,7 @@ const char* display_mode_name(display_mode m) {
     case display_mode::image: return "image";
     case display_mode::reasons: return "reasons";
     case display_mode::paths: return "paths";
+    case display_mode::cells: return "cells";
   }
   return "?";
 }
@@ -22,13 +23,13 @@ bool parse_display_mode(std::string_view s, display_mode& out) {
   return false;
 }
 
-namespace {
-
 void encode_srgb(const image& img, std::vector<unsigned char>& out) {
   out.resize(img.pixels.size() * 3);
   unsigned char* o = out.data();
   for (const glm::vec3& p : img.pixels) *o++ = srgb_byte(p.x), *o++ = srgb_byte(p.y), *o++ = srgb_byte(p.z);
 }
+
+namespace {
 
 // The reasons image already tells the paths apart (render_frame adds nothing for them):
 // reprojected pixels took the fast path, interpolated ones the interp path, the rest base.

@@ -11,9 +11,9 @@
 
 namespace epsray {
 
-// Tab cycles them in this order.
-enum class display_mode { image, reasons, paths };
-constexpr int display_mode_count = 3;
+// Tab cycles them in this order. cells: the linetree cells of the picked object.
+enum class display_mode { image, reasons, paths, cells };
+constexpr int display_mode_count = 4;
 const char* display_mode_name(display_mode m);
 bool parse_display_mode(std::string_view s, display_mode& out);
 
@@ -37,7 +37,11 @@ struct shown_frame {
   frame_stats stats;
 };
 
-// Fills `out` from a frame rendered with frame_params::reasons. The byte buffers keep their
+// Linear radiance to 8-bit sRGB bytes, row by row.
+void encode_srgb(const image& img, std::vector<unsigned char>& out);
+
+// Fills `out` from a frame rendered with frame_params::reasons (the cells display is left
+// to paint_cells). The byte buffers keep their
 // capacity from frame to frame: nothing is allocated once the size is steady.
 void fill_shown_frame(const frame_result& fr, shown_frame& out);
 

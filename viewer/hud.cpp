@@ -49,7 +49,7 @@ void draw_hud(viewer_state& s, const shown_frame& f, const frame_times& times, c
               s.play >= 0 ? "  PLAY" : "");
   if (!s.note.empty()) ImGui::TextUnformatted(s.note.c_str());
   ImGui::TextUnformatted("W A S D Q E move, left drag looks, + - or scroll: speed\n"
-                         "[ ] epsilon, Tab display, R reset, P record, L play, F1 HUD");
+                         "[ ] epsilon, Tab display, right click: cells of an object, R reset, P record, L play, F1 HUD");
   if (ImGui::CollapsingHeader("keys")) {
     ImGui::TextUnformatted("left drag: look");
     for (const key_binding& b : key_bindings()) ImGui::Text("%-4s %s", b.name, b.help);

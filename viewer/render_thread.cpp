@@ -1,5 +1,7 @@
 #include "viewer/render_thread.h"
 
+#include "viewer/cell_view.h"
+
 namespace epsray {
 
 render_thread::render_thread(const world& w, const frame_params& fp, int width, int height, int threads,
@@ -73,8 +75,12 @@ void render_thread::loop() {
     try {
       frame_params fp = fp_;
       fp.interp.eps = r.eps;
-      const frame_result fr = render_frame(pool_, w_, make_camera(r.view, width_, height_), fp);
+      const camera cam = make_camera(r.view, width_, height_);
+      const frame_result fr = render_frame(pool_, w_, cam, fp);
       fill_shown_frame(fr, work);
+      if (r.cells) paint_cells(pool_, w_, cam, trees_, r.pick_x, r.pick_y, fr.img, cell_scratch_,
+                               work.rgb[size_t(display_mode::cells)]);
+      else work.rgb[size_t(display_mode::cells)] = work.rgb[size_t(display_mode::image)];
     } catch (const std::exception& e) {
       {
         std::lock_guard lock(m_);

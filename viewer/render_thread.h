@@ -19,6 +19,8 @@ namespace epsray {
 struct render_request {
   camera_view view;
   float eps = 0;
+  bool cells = false;           // paint the cells display (it costs a visibility ray a pixel)
+  float pick_x = 0.5f, pick_y = 0.5f;  // its object: under this point, fractions of the image
 };
 
 class render_thread {
@@ -51,6 +53,7 @@ class render_thread {
   workers pool_;
   linetree_set trees_;
   reprojection_state reproj_;
+  std::vector<const lt_node*> cell_scratch_;
 
   std::mutex m_;
   std::condition_variable wake_;

@@ -45,10 +45,14 @@ script parse_script(std::string_view text, const std::string& name) {
       if (st.key < 0)
         in.fail(l.number, "cannot press '" + std::string(l.words[1]) + "' (+ - ] [ Tab R P L F1 Esc)");
     } else if (cmd == "mode") {
-      expect_words(in, l, 2, "mode image|reasons|paths");
+      expect_words(in, l, 2, "mode image|reasons|paths|cells");
       st.op = script_op::mode;
       if (!parse_display_mode(l.words[1], st.mode))
-        in.fail(l.number, "mode '" + std::string(l.words[1]) + "' is not image, reasons or paths");
+        in.fail(l.number, "mode '" + std::string(l.words[1]) + "' is not image, reasons, paths or cells");
+    } else if (cmd == "pick") {
+      expect_words(in, l, 3, "pick FX FY");
+      st.op = script_op::pick, st.x = in.number(l, 1, "pick x"), st.y = in.number(l, 2, "pick y");
+      if (!(st.x >= 0 && st.x < 1 && st.y >= 0 && st.y < 1)) in.fail(l.number, "pick takes fractions of the image, from 0 to 1");
     } else if (cmd == "eps") {
       expect_words(in, l, 2, "eps E");
       st.op = script_op::eps, st.x = in.number(l, 1, "eps");
@@ -68,7 +72,7 @@ script parse_script(std::string_view text, const std::string& name) {
       st.op = script_op::quit;
     } else {
       in.fail(l.number, "unknown command '" + std::string(cmd) +
-                            "' (frames, refine, key, drag, press, mode, eps, hud, screenshot, quit)");
+                            "' (frames, refine, key, drag, press, mode, pick, eps, hud, screenshot, quit)");
     }
     out.steps.push_back(st);
   }
@@ -121,6 +125,7 @@ script_turn script_player::next(viewer_state& st, const shown_frame& shown) {
         break;
       case script_op::press: press_key(st, s.key); break;
       case script_op::mode: st.mode = s.mode; break;
+      case script_op::pick: st.pick_x = s.x, st.pick_y = s.y, st.mode = display_mode::cells; break;
       case script_op::eps: st.eps = s.x; break;
       case script_op::hud: st.hud = s.on; break;
       case script_op::quit: step_ = s_.steps.size(); continue;

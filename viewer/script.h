@@ -23,13 +23,13 @@
 
 namespace epsray {
 
-enum class script_op { frames, refine, key, drag, press, mode, eps, hud, screenshot, quit };
+enum class script_op { frames, refine, key, drag, press, mode, pick, eps, hud, screenshot, quit };
 
 struct script_step {
   script_op op = script_op::quit;
   int count = 1;       // frames, key: frames to render
   int key = -1;        // key, press: GLFW key code
-  float x = 0, y = 0;  // drag: pixels; eps: the bound in x
+  float x = 0, y = 0;  // drag: pixels; pick: fractions of the image; eps: the bound in x
   display_mode mode = display_mode::image;
   bool on = false;   // hud
   std::string file;  // screenshot

@@ -95,6 +95,20 @@ void window::drag(float& dx, float& dy) {
   cursor_x_ = x, cursor_y_ = y;
 }
 
+bool window::take_pick(float& fx, float& fy) {
+  const bool down = glfwGetMouseButton(w_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+  const bool clicked = down && !right_down_ && !ImGui::GetIO().WantCaptureMouse;
+  right_down_ = down;
+  if (!clicked) return false;
+  double x, y;
+  int ww = 0, wh = 0;
+  glfwGetCursorPos(w_, &x, &y);
+  glfwGetWindowSize(w_, &ww, &wh);
+  if (ww <= 0 || wh <= 0) return false;
+  fx = float(x / ww), fy = float(y / wh);
+  return true;
+}
+
 void window::framebuffer_size(int& width, int& height) const { glfwGetFramebufferSize(w_, &width, &height); }
 
 bool window::hud_busy() const { return ImGui::GetIO().WantCaptureMouse || ImGui::GetIO().WantCaptureKeyboard; }

@@ -26,6 +26,8 @@ class window {
   // Cursor movement in pixels since the last call while the left button drags (a drag that
   // starts on the HUD belongs to the HUD).
   void drag(float& dx, float& dy);
+  // A right click since the last call (not on the HUD): where, as fractions of the window.
+  bool take_pick(float& fx, float& fy);
   void framebuffer_size(int& width, int& height) const;
   // The HUD has the mouse or the keyboard (hover, typing): it wants prompt redraws.
   bool hud_busy() const;
@@ -46,6 +48,7 @@ class window {
   std::vector<int> presses_;
   double scroll_ = 0;
   bool dragging_ = false;
+  bool right_down_ = false;
   double cursor_x_ = 0, cursor_y_ = 0;
 };
 
