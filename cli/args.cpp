@@ -53,7 +53,8 @@ std::string usage_text() {
          "       --reasons OUT.png (render: the error-coded image), --verify (render too),\n"
          "       --min-cell-pixels P (no linetree cell is split into children covering fewer pixels),\n"
          "       --split 4|16 (halve the axes a failure points at, or always all four),\n"
-         "       --pin (bind each worker thread to its own core, through hwloc)\n";
+         "       --pin (bind each worker thread to its own core, through hwloc),\n"
+         "       --memory-mb M (linetrees and caches: evict least recently used cells between frames)\n";
 }
 
 cli_options parse_args(const std::vector<std::string>& a) {
@@ -72,7 +73,7 @@ cli_options parse_args(const std::vector<std::string>& a) {
     };
     // The viewer always renders in full mode and writes only what its own flags name.
     if (view && (f == "--mode" || f == "--frame" || f == "--png" || f == "--pfm" || f == "--stats" ||
-                 f == "--verify" || f == "--reasons" || f == "--quiet" || f == "--pin"))
+                 f == "--verify" || f == "--reasons" || f == "--quiet" || f == "--pin" || f == "--memory-mb"))
       bad("unknown option '" + f + "' for view");
     if (f.rfind("--", 0) != 0) {
       if (!o.scene.empty() || o.command == "info") bad("unexpected argument '" + f + "'");
@@ -106,6 +107,7 @@ cli_options parse_args(const std::vector<std::string>& a) {
       o.four_way = v == "4";
     } else if (f == "--quiet") o.quiet = true;
     else if (f == "--pin") o.pin = true;
+    else if (f == "--memory-mb") o.memory_mb = to_number("--memory-mb", value(), 1, 1e6);
     else bad("unknown option '" + f + "' for " + o.command);
   }
   if (o.command != "info" && !view && o.scene.empty()) bad(o.command + " needs a SCENE file");  // view: the art room

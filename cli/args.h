@@ -29,6 +29,7 @@ struct cli_options {
   float min_cell_pixels = 16;
   bool four_way = true;
   bool pin = false;  // bind worker threads to cores (hwloc)
+  double memory_mb = 0;  // linetree memory budget; 0: none
   bool png_flag = false, pfm_flag = false, verify = false, quiet = false;
 };
 

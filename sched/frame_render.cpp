@@ -87,6 +87,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   if (p.mode != render_mode::base && !p.trees) throw std::logic_error("interp and full modes need a linetree set");
   if (p.mode == render_mode::full && !p.reproj) throw std::logic_error("full mode needs a reprojection state");
   const double tick_ms = ticks_per_ms();
+  if (p.trees) p.trees->next_frame();
   auto t0 = std::chrono::steady_clock::now();
   frame_result out;
   out.img = image(cam.width, cam.height);
@@ -147,8 +148,10 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     std::vector<cell_ref> next;
     for (const tile_totals& t : totals) next.insert(next.end(), t.cells.begin(), t.cells.end());
     settle_cells(next);
+    for (const cell_ref& c : next) mark_used(*c.node, p.trees->frame());  // carried: never evicted now
     p.reproj->cells = std::move(next);
   }
+  if (p.trees) p.trees->evict();  // between frames: nothing else touches the trees now
   for (const ray_tree_store& t : trees) out.trees.append(t);
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   // After the clock: measuring linetree memory walks every node.

@@ -43,6 +43,7 @@ struct frame_params {
   render_mode mode = render_mode::base;
   interp_params interp;            // eps and the cost model, for interp and full
   linetree_set* trees = nullptr;   // kept between frames by the caller; needed by interp/full
+                                   // (its memory budget is enforced after each frame)
   reprojection_state* reproj = nullptr;  // kept between frames by the caller; needed by full
   int tile_rows = 0;               // 0: default_tile_rows
   bool keep_ray_trees = false;     // base: fill frame_result::trees, one per pixel, raster order

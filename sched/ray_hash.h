@@ -56,6 +56,15 @@ class insert_only_map {
     return nullptr;  // full around here: the caller keeps its value unshared
   }
 
+  // Forgets every entry. Not concurrent: only while no thread uses the map.
+  void clear() {
+    for (std::size_t i = 0; i <= mask_; ++i) {
+      slots_[i].tag.store(0, std::memory_order_relaxed);
+      slots_[i].ready.store(0, std::memory_order_relaxed);
+    }
+    size_.store(0, std::memory_order_relaxed);
+  }
+
   std::size_t size() const { return size_.load(std::memory_order_relaxed); }
   std::size_t capacity() const { return mask_ + 1; }
   std::size_t bytes() const { return capacity() * sizeof(slot); }

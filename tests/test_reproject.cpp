@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 
 #include "reproject/reproject.h"
@@ -49,11 +50,12 @@ camera_view slid(const camera_view& v, float dx) {
 struct walk_result {
   std::vector<image> frames;
   std::uint64_t fast = 0;
+  size_t max_linetree_bytes = 0;
 };
 
 walk_result walk_full(const world& w, const std::vector<camera_view>& views, int width, int height, int threads,
-                      float eps, bool verify) {
-  linetree_set trees(w.prim_bounds);
+                      float eps, bool verify, size_t memory_budget = 0) {
+  linetree_set trees(w.prim_bounds, memory_budget);
   reprojection_state reproj;
   workers pool(threads);
   frame_params p;
@@ -70,6 +72,7 @@ walk_result walk_full(const world& w, const std::vector<camera_view>& views, int
       EXPECT_EQ(vr.violations, 0u) << "frame " << k << ", max error " << vr.max_rel_err;
     }
     if (k > 0) out.fast += fr.pixels.fast;
+    out.max_linetree_bytes = std::max(out.max_linetree_bytes, trees.bytes());
     out.frames.push_back(std::move(fr.img));
   }
   return out;
@@ -96,6 +99,33 @@ TEST(Reprojection, FullModeImagesIgnoreThreadCount) {
               0)
         << "frame " << k;
   EXPECT_GT(a.fast, 0u);
+}
+
+TEST(MemoryBudget, EvictionKeepsTheBoundTheBudgetAndThreadIndependence) {
+  // The art room orbited at a small size: unbounded, its linetrees outgrow the budget;
+  // bounded, least recently used cells are evicted between frames and rebuilt on demand.
+  world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/artroom.nff"));
+  std::vector<camera_view> views;
+  for (int k = 0; k < 6; ++k) {
+    camera_view v = w.sc.view;
+    const float turn = 0.08f * float(k);
+    const glm::vec3 d = v.at - v.from;
+    v.at = v.from + glm::vec3(std::cos(turn) * d.x - std::sin(turn) * d.z, d.y, std::sin(turn) * d.x + std::cos(turn) * d.z);
+    views.push_back(v);
+  }
+  const size_t budget = size_t(6) << 20;
+  walk_result free_walk = walk_full(w, views, 200, 150, 2, 0.05f, false);
+  ASSERT_GT(free_walk.max_linetree_bytes, budget) << "the walk must outgrow the budget for the test to mean much";
+  walk_result one = walk_full(w, views, 200, 150, 1, 0.05f, true, budget);
+  walk_result two = walk_full(w, views, 200, 150, 2, 0.05f, true, budget);
+  // Over the budget only by the cells a frame used (kept so reprojection can use them).
+  EXPECT_LT(one.max_linetree_bytes, free_walk.max_linetree_bytes);
+  EXPECT_LT(one.max_linetree_bytes, 2 * budget);
+  for (size_t k = 0; k < views.size(); ++k)
+    EXPECT_EQ(std::memcmp(one.frames[k].pixels.data(), two.frames[k].pixels.data(),
+                          one.frames[k].pixels.size() * sizeof(glm::vec3)),
+              0)
+        << "frame " << k;
 }
 
 TEST(Reprojection, EpsZeroFullWalkIsTheBaseTracer) {

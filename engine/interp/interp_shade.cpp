@@ -305,6 +305,7 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
     }
     break;
   }
+  mark_used(*node, f.trees->frame());
   if (ip->reason == cell_reason::valid) {
     glm::vec3 La;
     if (interpolate_line(w, h.prim, *node, *ip, x4, f.p.eps, La)) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <functional>
+#include <tuple>
 
 namespace epsray {
 
@@ -54,9 +55,18 @@ const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made) {
   return mine;
 }
 
-linetree_set::linetree_set(const std::vector<bounds>& prim_bounds)
-    : bounds_(prim_bounds), trees_(new std::array<std::atomic<linetree*>, 6>[prim_bounds.size()]),
-      count_(prim_bounds.size()) {
+namespace {
+// The unique-ray hash takes about a quarter of a memory budget (its slots are ~90 bytes).
+std::size_t line_capacity(std::size_t budget) {
+  if (budget == 0) return std::size_t(1) << 18;
+  return std::clamp<std::size_t>(budget / 4 / 96, std::size_t(1) << 12, std::size_t(1) << 18);
+}
+}  // namespace
+
+linetree_set::linetree_set(const std::vector<bounds>& prim_bounds, size_t memory_budget)
+    : bounds_(prim_bounds), budget_(memory_budget),
+      trees_(new std::array<std::atomic<linetree*>, 6>[prim_bounds.size()]), count_(prim_bounds.size()),
+      samples_(line_capacity(memory_budget), memory_budget ? std::size_t(1) << 13 : std::size_t(1) << 16) {
   for (size_t i = 0; i < count_; ++i)
     for (auto& t : trees_[i]) t.store(nullptr, std::memory_order_relaxed);
 }
@@ -93,6 +103,73 @@ size_t linetree_set::bytes() const {
   for (size_t i = 0; i < count_; ++i)
     for (const auto& t : trees_[i])
       if (const linetree* lt = t.load(std::memory_order_acquire)) total += sizeof(linetree) + walk(lt->root);
+  return total;
+}
+
+size_t linetree_set::evict() {
+  if (budget_ == 0) return 0;
+  size_t total = bytes();
+  if (total <= budget_) return total;
+  // The caches first: cheap to refill, and what is left is then a deterministic size (the
+  // trees a cache holds depend on which thread traced which line first).
+  samples_.clear();
+  total = bytes();
+  if (total <= budget_) return total;
+
+  // Newest use and bytes of each subtree below a node's children.
+  struct unit {
+    std::uint32_t newest;
+    int prim, fp;
+    lt_node* node;
+    size_t bytes;
+  };
+  std::vector<unit> units;
+  std::function<std::pair<std::uint32_t, size_t>(const lt_node&)> measure =
+      [&](const lt_node& n) -> std::pair<std::uint32_t, size_t> {
+    std::uint32_t newest = n.used.load(std::memory_order_relaxed);
+    const interpolant* ip = n.interp.load(std::memory_order_relaxed);
+    size_t b = ip && !ip->shared ? sizeof(interpolant) : 0;
+    if (const lt_node* k = n.kids.load(std::memory_order_relaxed)) {
+      const int count = child_count(k[0].parent_axes);
+      b += size_t(count) * sizeof(lt_node);
+      for (int i = 0; i < count; ++i) {
+        auto [s, cb] = measure(k[i]);
+        newest = std::max(newest, s), b += cb;
+      }
+    }
+    return {newest, b};
+  };
+  // The largest subtrees nobody reached this frame: a node's children, all together.
+  std::function<void(lt_node&, int, int)> collect = [&](lt_node& n, int prim, int fp) {
+    lt_node* k = n.kids.load(std::memory_order_relaxed);
+    if (!k) return;
+    const int count = child_count(k[0].parent_axes);
+    std::uint32_t newest = 0;
+    size_t b = size_t(count) * sizeof(lt_node);
+    for (int i = 0; i < count; ++i) {
+      auto [s, cb] = measure(k[i]);
+      newest = std::max(newest, s), b += cb;
+    }
+    if (newest < frame_) {
+      units.push_back({newest, prim, fp, &n, b});
+      return;
+    }
+    for (int i = 0; i < count; ++i) collect(k[i], prim, fp);
+  };
+  for (size_t i = 0; i < count_; ++i)
+    for (int f = 0; f < 6; ++f)
+      if (linetree* lt = trees_[i][size_t(f)].load(std::memory_order_relaxed)) collect(lt->root, int(i), f);
+  auto key = [](const unit& u) {
+    const lt_node& n = *u.node;
+    return std::make_tuple(u.newest, u.prim, u.fp, n.lo[0], n.lo[1], n.lo[2], n.lo[3], n.hi[0], n.hi[1], n.hi[2],
+                           n.hi[3]);
+  };
+  std::sort(units.begin(), units.end(), [&](const unit& a, const unit& b) { return key(a) < key(b); });
+  for (const unit& u : units) {
+    if (total <= budget_) break;
+    delete[] u.node->kids.exchange(nullptr, std::memory_order_relaxed);
+    total -= u.bytes;
+  }
   return total;
 }
 

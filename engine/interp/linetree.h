@@ -25,8 +25,16 @@ struct lt_node {
   std::uint8_t parent_axes = 0;  // the axes the parent halved to make this node and its siblings
   std::atomic<lt_node*> kids{nullptr};  // 4 or 16 children, created together
   std::atomic<interpolant*> interp{nullptr};
+  // The last frame a pixel's lookup ended here (linetree_set::frame()): what a memory
+  // budget evicts last. Every writer of a frame writes the same value.
+  mutable std::atomic<std::uint32_t> used{0};
   ~lt_node();
 };
+
+// Marks n used in `frame` (a read first: most lookups find it marked already).
+inline void mark_used(const lt_node& n, std::uint32_t frame) {
+  if (n.used.load(std::memory_order_relaxed) != frame) n.used.store(frame, std::memory_order_relaxed);
+}
 
 inline int child_count(std::uint8_t axes) { return 1 << std::popcount(unsigned(axes)); }
 
@@ -61,15 +69,29 @@ const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made);
 // The linetrees of every primitive, six facepairs each, created on first use.
 class linetree_set {
  public:
-  explicit linetree_set(const std::vector<bounds>& prim_bounds);
+  // memory_budget (bytes, 0: none) also sizes the unique-ray hash to a share of it.
+  explicit linetree_set(const std::vector<bounds>& prim_bounds, size_t memory_budget = 0);
   ~linetree_set();
   linetree& get(int prim, int facepair_index);
   size_t bytes() const;  // nodes, interpolants and the caches
+  size_t memory_budget() const { return budget_; }
+
+  // Frames number lookups (lt_node::used); a frame starts with next_frame().
+  std::uint32_t frame() const { return frame_; }
+  void next_frame() { ++frame_; }
+  // Between frames, when over the memory budget: forgets the shared samples and ray trees,
+  // then frees the subtrees no lookup reached this frame, least recently used first (ties
+  // in a fixed order), until under budget. Cells used this frame are kept, so the budget
+  // is exceeded only by one frame's working set. Not concurrent. Returns the bytes after
+  // (0 without a budget: nothing is measured).
+  size_t evict();
   // Line samples and ray trees shared by every cell of every tree of this set.
   sample_cache& samples() { return samples_; }
 
  private:
   std::vector<bounds> bounds_;  // a copy: small, and no lifetime tie to the world
+  size_t budget_ = 0;
+  std::uint32_t frame_ = 1;
   std::unique_ptr<std::array<std::atomic<linetree*>, 6>[]> trees_;
   size_t count_;
   sample_cache samples_;

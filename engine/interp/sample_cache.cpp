@@ -6,6 +6,11 @@ tree_cache::~tree_cache() {
   map_.for_each([](ray_tree* t) { delete t; });
 }
 
+void tree_cache::clear() {
+  map_.for_each([](ray_tree* t) { delete t; });
+  map_.clear();
+}
+
 const ray_tree* tree_cache::canonical(const ray_tree& t) {
   const std::uint64_t h = topology_hash(t);
   if (ray_tree* const* found = map_.find(h)) return same_topology(**found, t) ? *found : nullptr;

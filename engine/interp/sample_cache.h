@@ -58,6 +58,7 @@ class tree_cache {
   // (a hash shared with another topology, or a full table): the caller keeps its own.
   const ray_tree* canonical(const ray_tree& t);
   std::size_t bytes() const;
+  void clear();  // frees every tree; not concurrent
 
  private:
   insert_only_map<std::uint64_t, ray_tree*, identity_hash> map_;
@@ -69,6 +70,8 @@ struct sample_cache {
   explicit sample_cache(std::size_t line_capacity = std::size_t(1) << 18, std::size_t tree_capacity = 1 << 16)
       : lines(line_capacity), trees(tree_capacity) {}
   std::size_t bytes() const { return lines.bytes() + trees.bytes(); }
+  // Forgets every sample and tree (line samples point at the trees). Not concurrent.
+  void clear() { lines.clear(), trees.clear(); }
 };
 
 }  // namespace epsray
