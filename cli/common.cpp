@@ -83,4 +83,9 @@ frame_params make_frame_params(const cli_options& o, linetree_set* trees, reproj
   return fp;
 }
 
+std::unique_ptr<linetree_set> make_linetrees(const cli_options& o, const world& w) {
+  if (o.mode == render_mode::base) return nullptr;
+  return std::make_unique<linetree_set>(w.prim_bounds, size_t(o.memory_mb * 1048576.0));
+}
+
 }  // namespace epsray

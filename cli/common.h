@@ -1,8 +1,10 @@
 // What the commands share: output checks before any work, text files written whole, and
 // the frame parameters the command line sets.
 #pragma once
+#include <memory>
 #include <string>
 
+#include "accel/world.h"
 #include "args.h"
 #include "image/image.h"
 #include "sched/frame_render.h"
@@ -21,5 +23,8 @@ void reject_unbuilt(const cli_options& o);
 // A NaN or infinite pixel is an internal error: nothing is written.
 void check_finite(const image& img);
 frame_params make_frame_params(const cli_options& o, linetree_set* trees, reprojection_state* reproj);
+// The linetrees of interp and full modes, with --memory-mb's budget; none for base (their
+// sample caches alone are tens of MB).
+std::unique_ptr<linetree_set> make_linetrees(const cli_options& o, const world& w);
 
 }  // namespace epsray

@@ -54,10 +54,8 @@ int run_render(const cli_options& o) {
   pool.warm_up();
   auto t0 = std::chrono::steady_clock::now();
   world w = make_world(std::move(sc));
-  // Linetrees and their sample caches (tens of MB) only where a mode uses them.
-  std::unique_ptr<linetree_set> trees;
+  std::unique_ptr<linetree_set> trees = make_linetrees(o, w);
   reprojection_state reproj;  // full: the cells carried to the next frame
-  if (o.mode != render_mode::base) trees = std::make_unique<linetree_set>(w.prim_bounds, size_t(o.memory_mb * 1048576.0));
   const frame_params fp = make_frame_params(o, trees.get(), &reproj);
   const camera cam = make_camera(view, width, height);
   frame_result fr = render_frame(pool, w, cam, fp);
