@@ -86,6 +86,24 @@ TEST(Reprojection, OccluderSweepingAcrossReprojectedCellsNeverLeaks) {
   EXPECT_GT(r.fast, 160u * 120u) << "later frames should mostly reuse last frame's cells";
 }
 
+TEST(Reprojection, ObjectPassedByTheCameraIsNotReprojectedBehindIt) {
+  // The camera flies towards the wall and past a matte sphere (whose cells are valid): the
+  // lines through the new eye that meet the sphere meet it behind the eye, and the pixels
+  // looking ahead, at the wall, must not take it. (Before the check, 507 pixels did.)
+  std::string text = sweep_scene;
+  const std::string shiny = "f 0.9 0.1 0.1 0.7 0.2 20 0 1", matte = "f 0.9 0.1 0.1 0.9 0 0 0 1";
+  text.replace(text.find(shiny), shiny.size(), matte);
+  world w = world_of(text);
+  std::vector<camera_view> views;
+  for (float z : {6.0f, 5.0f, 4.4f, 2.5f, 2.3f}) {
+    camera_view v = w.sc.view;
+    v.from.z = z, v.at.z = z - 6;
+    views.push_back(v);
+  }
+  walk_result r = walk_full(w, views, 160, 120, 2, 0.05f, true);
+  EXPECT_GT(r.fast, 160u * 120u);
+}
+
 TEST(Reprojection, FullModeImagesIgnoreThreadCount) {
   world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/tests/shapes.nff"));
   std::vector<camera_view> views;

@@ -13,10 +13,11 @@ facepair make_facepair(const bounds& box, int index) {
   glm::vec3 ext = box.extent();
   float size = std::max({ext.x, ext.y, ext.z});
   // The planes stay at least half the object's size apart, so lines are well conditioned
-  // (a flat object would otherwise give two planes at one place); an object deep along the
-  // axis needs no margin, and less slab means smaller root cells. The absolute term covers
-  // points.
-  float margin = std::max(0.0f, 0.25f * size - 0.5f * ext[f.axis]) + 1e-6f * (1 + glm::length(box.centre()));
+  // (a flat object would otherwise give two planes at one place), and clear of the object
+  // by a twentieth of its size, so no line starts on its surface (a box face or a sphere's
+  // pole on the plane would put every entry at t = 0, which the predicate cannot order).
+  // Less slab means smaller root cells. The absolute term covers points.
+  float margin = std::max(0.05f * size, 0.25f * size - 0.5f * ext[f.axis]) + 1e-6f * (1 + glm::length(box.centre()));
   float lo = box.lo[f.axis] - margin, hi = box.hi[f.axis] + margin;
   bool positive = index % 2 == 0;
   f.front = positive ? lo : hi;

@@ -9,13 +9,21 @@ namespace epsray {
 
 bool trusted_from(const world& w, const cell_ref& c, glm::vec3 eye) {
   if (c.ip->reason != cell_reason::valid || c.ip->hit_box.empty()) return false;
-  if (!same_first_hit(w.shapes[size_t(c.prim)], c.lt->fp, eye)) return false;
+  // The hit points must lie ahead of the eye along the cell's direction of travel: a line
+  // through the eye meets the object where its cell says, but that may be behind the eye
+  // (an object the camera has passed), where the pixel's ray never goes.
+  const facepair& fp = c.lt->fp;
+  const bool ahead = fp.back > fp.front ? eye[fp.axis] < c.ip->hit_box.lo[fp.axis]
+                                        : eye[fp.axis] > c.ip->hit_box.hi[fp.axis];
+  if (!ahead) return false;
+  if (!same_first_hit(w.shapes[size_t(c.prim)], fp, eye)) return false;
   const shaft s = make_shaft(bounds{eye, eye}, c.ip->hit_box);
   return !for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) { return id != c.prim; });
 }
 
 bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float x4[4]) {
   const glm::vec3 d = eye_direction(cam, float(x), float(y));
+  if (facepair_of(d) != c.lt->fp.index) return false;  // the line, run the other way
   line_coords(c.lt->fp, cam.origin, d, x4);
   for (int i = 0; i < 4; ++i)
     if (!(x4[i] >= c.node->lo[i] && x4[i] <= c.node->hi[i])) return false;

@@ -19,13 +19,15 @@
 
 namespace epsray {
 
-// Is cell c trusted from `eye`: its interpolant valid, the eye ray's first hit on the
+// Is cell c trusted from `eye`: its interpolant valid, the points where its lines meet the
+// object ahead of the eye along the cell's direction, the eye ray's first hit on the
 // object the one its lines hold, and nothing but the object in the shaft from the eye to
-// the points where the cell's lines meet it (so no occluder in front of any of them).
+// those points (so no occluder in front of any of them).
 bool trusted_from(const world& w, const cell_ref& c, glm::vec3 eye);
 
 // The line of pixel (x, y) in the cell's facepair coordinates, as the interpolate path
-// computes it; true when it lies inside the cell.
+// computes it; true when the pixel's ray runs in the facepair's direction and its line
+// lies inside the cell.
 bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float x4[4]);
 
 // Owner of each pixel of rows [y0, y1): the index of the first trusted cell (in list order)
