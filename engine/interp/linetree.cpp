@@ -112,11 +112,14 @@ size_t linetree_set::evict() {
   if (total <= budget_) return total;
   // The caches first: cheap to refill, and what is left is then a deterministic size (the
   // trees a cache holds depend on which thread traced which line first).
+  total -= samples_.bytes();
   samples_.clear();
-  total = bytes();
+  total += samples_.bytes();
   if (total <= budget_) return total;
 
-  // Newest use and bytes of each subtree below a node's children.
+  // The largest subtrees nobody reached this frame, a node's children all together, found
+  // in one pass, children before parents: a stale subtree replaces the stale ones found
+  // inside it. visit returns the newest use and the bytes of n and all below it.
   struct unit {
     std::uint32_t newest;
     int prim, fp;
@@ -124,41 +127,30 @@ size_t linetree_set::evict() {
     size_t bytes;
   };
   std::vector<unit> units;
-  std::function<std::pair<std::uint32_t, size_t>(const lt_node&)> measure =
-      [&](const lt_node& n) -> std::pair<std::uint32_t, size_t> {
-    std::uint32_t newest = n.used.load(std::memory_order_relaxed);
+  std::function<std::pair<std::uint32_t, size_t>(lt_node&, int, int)> visit =
+      [&](lt_node& n, int prim, int fp) -> std::pair<std::uint32_t, size_t> {
+    const std::uint32_t used = n.used.load(std::memory_order_relaxed);
     const interpolant* ip = n.interp.load(std::memory_order_relaxed);
-    size_t b = ip && !ip->shared ? sizeof(interpolant) : 0;
-    if (const lt_node* k = n.kids.load(std::memory_order_relaxed)) {
-      const int count = child_count(k[0].parent_axes);
-      b += size_t(count) * sizeof(lt_node);
-      for (int i = 0; i < count; ++i) {
-        auto [s, cb] = measure(k[i]);
-        newest = std::max(newest, s), b += cb;
-      }
-    }
-    return {newest, b};
-  };
-  // The largest subtrees nobody reached this frame: a node's children, all together.
-  std::function<void(lt_node&, int, int)> collect = [&](lt_node& n, int prim, int fp) {
+    const size_t own = ip && !ip->shared ? sizeof(interpolant) : 0;
     lt_node* k = n.kids.load(std::memory_order_relaxed);
-    if (!k) return;
+    if (!k) return {used, own};
+    const size_t inside = units.size();
     const int count = child_count(k[0].parent_axes);
-    std::uint32_t newest = 0;
+    std::uint32_t below = 0;
     size_t b = size_t(count) * sizeof(lt_node);
     for (int i = 0; i < count; ++i) {
-      auto [s, cb] = measure(k[i]);
-      newest = std::max(newest, s), b += cb;
+      auto [s, cb] = visit(k[i], prim, fp);
+      below = std::max(below, s), b += cb;
     }
-    if (newest < frame_) {
-      units.push_back({newest, prim, fp, &n, b});
-      return;
+    if (below < frame_) {
+      units.resize(inside);
+      units.push_back({below, prim, fp, &n, b});
     }
-    for (int i = 0; i < count; ++i) collect(k[i], prim, fp);
+    return {std::max(used, below), own + b};
   };
   for (size_t i = 0; i < count_; ++i)
     for (int f = 0; f < 6; ++f)
-      if (linetree* lt = trees_[i][size_t(f)].load(std::memory_order_relaxed)) collect(lt->root, int(i), f);
+      if (linetree* lt = trees_[i][size_t(f)].load(std::memory_order_relaxed)) visit(lt->root, int(i), f);
   auto key = [](const unit& u) {
     const lt_node& n = *u.node;
     return std::make_tuple(u.newest, u.prim, u.fp, n.lo[0], n.lo[1], n.lo[2], n.lo[3], n.hi[0], n.hi[1], n.hi[2],
