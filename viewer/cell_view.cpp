@@ -34,8 +34,7 @@ const lt_node* leaf_of(const world& w, const camera& cam, linetree_set& trees, i
   const linetree& lt = trees.get(prim, facepair_of(r.d));
   float x4[4];
   line_coords(lt.fp, r.o, r.d, x4);
-  for (int i = 0; i < 4; ++i)
-    if (!(x4[i] >= lt.root.lo[i] && x4[i] <= lt.root.hi[i])) return nullptr;
+  if (!holds(lt.root, x4)) return nullptr;
   const lt_node* n = &lt.root;
   while (lt_node* kids = n->kids.load(std::memory_order_acquire)) n = child_at(*n, kids, x4);
   return n;

@@ -266,11 +266,9 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
   }
   float x4[4];
   line_coords(lt.fp, r.o, r.d, x4);
-  for (int i = 0; i < 4; ++i) {
-    if (!(x4[i] >= lt.root.lo[i] && x4[i] <= lt.root.hi[i])) {  // rounding at the root's edge
-      out.L = shade_hit(w, r, h, 1, st);
-      return out;
-    }
+  if (!holds(lt.root, x4)) {  // rounding at the root's edge
+    out.L = shade_hit(w, r, h, 1, st);
+    return out;
   }
   lt_node* node = &lt.root;
   if (scratch.hint_tree == &lt && strictly_inside(*scratch.hint, x4)) node = scratch.hint;

@@ -55,6 +55,14 @@ inline int child_index(const lt_node& n, std::uint8_t axes, const float x[4]) {
   return k;
 }
 
+// Does the cell hold the line x? Closed ranges: a line on a face shared by two cells is in
+// both (descents pick one by child_index).
+inline bool holds(const lt_node& n, const float x[4]) {
+  for (int i = 0; i < 4; ++i)
+    if (!(x[i] >= n.lo[i] && x[i] <= n.hi[i])) return false;
+  return true;
+}
+
 // The child of n holding x, given n's published children.
 inline lt_node* child_at(const lt_node& n, lt_node* kids, const float x[4]) {
   return &kids[child_index(n, kids[0].parent_axes, x)];

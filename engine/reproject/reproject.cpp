@@ -25,9 +25,7 @@ bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float 
   const glm::vec3 d = eye_direction(cam, float(x), float(y));
   if (facepair_of(d) != c.lt->fp.index) return false;  // the line, run the other way
   line_coords(c.lt->fp, cam.origin, d, x4);
-  for (int i = 0; i < 4; ++i)
-    if (!(x4[i] >= c.node->lo[i] && x4[i] <= c.node->hi[i])) return false;
-  return true;
+  return holds(*c.node, x4);
 }
 
 void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std::vector<std::uint8_t>& trusted,
