@@ -90,8 +90,8 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   if (p.trees) p.trees->next_frame();
   auto t0 = std::chrono::steady_clock::now();
   frame_result out;
-  out.img = image(cam.width, cam.height);
-  if (p.reasons) out.reasons = image(cam.width, cam.height);
+  out.img = image::unwritten(cam.width, cam.height);  // every tile writes all its pixels
+  if (p.reasons) out.reasons = image::unwritten(cam.width, cam.height);
   int rows = p.tile_rows > 0 ? p.tile_rows : default_tile_rows(cam.height, pool.threads());
   std::vector<tile> tiles = make_tiles(cam.height, rows);
   std::vector<tile_totals> totals(tiles.size());
@@ -99,7 +99,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   interp_frame f{&w, p.trees, &cam, p.interp};
   // Full: last frame's cells from the new eye (each checked once, in parallel), then each
   // tile's pixels take the first containing trusted cell.
-  std::vector<std::int32_t> owner;
+  std::vector<std::int32_t, no_init_allocator<std::int32_t>> owner;  // splat_rows fills each tile's rows
   reprojection_frame rp;
   if (p.mode == render_mode::full) {
     const auto r0 = std::chrono::steady_clock::now();
@@ -136,6 +136,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       } else {
         shade_tile_interp(f, p.mode == render_mode::full ? &rp : nullptr, tiles[i], out.img,
                           p.reasons ? &out.reasons : nullptr, totals[i]);
+        settle_cells(totals[i].cells);  // here, in parallel: the serial merge below then sorts far fewer
       }
     });
   });
@@ -147,7 +148,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   if (p.mode == render_mode::full) {
     std::vector<cell_ref> next;
     for (const tile_totals& t : totals) next.insert(next.end(), t.cells.begin(), t.cells.end());
-    settle_cells(next);
+    pool.run([&] { settle_cells(next); });
     for (const cell_ref& c : next) mark_used(*c.node, p.trees->frame());  // carried: never evicted now
     p.reproj->cells = std::move(next);
   }

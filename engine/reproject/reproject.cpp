@@ -1,5 +1,7 @@
 #include "reproject/reproject.h"
 
+#include <oneapi/tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <tuple>
 
@@ -57,7 +59,9 @@ void settle_cells(std::vector<cell_ref>& cells) {
     return std::make_tuple(c.prim, c.lt->fp.index, n.lo[0], n.lo[1], n.lo[2], n.lo[3], n.hi[0], n.hi[1], n.hi[2],
                            n.hi[3]);
   };
-  std::sort(cells.begin(), cells.end(), [&](const cell_ref& a, const cell_ref& b) { return key(a) < key(b); });
+  // The keys are unique per node, so the order (and the image) is the same however the sort
+  // is split among threads.
+  tbb::parallel_sort(cells.begin(), cells.end(), [&](const cell_ref& a, const cell_ref& b) { return key(a) < key(b); });
   cells.erase(std::unique(cells.begin(), cells.end(), [](const cell_ref& a, const cell_ref& b) { return a.node == b.node; }),
               cells.end());
 }
