@@ -56,13 +56,46 @@ def orbit_path(scene, frames, out):
             o.write("%g %g %g  %g %g %g  %g %g %g  %g\n" % (*p, *a, *u, v["angle"]))
 
 
-def walk(exe, scene, path, mode, size, threads):
+def walk(exe, scene, path, mode, size, threads, pin, tile_rows=None):
     with tempfile.TemporaryDirectory() as d:
         stats = os.path.join(d, "s.json")
         subprocess.run([exe, "walk", scene, "--path", path, "--mode", mode, "--size", size, "--threads",
-                        str(threads), "--quiet", "--stats", stats], check=True)
+                        str(threads), "--quiet", "--stats", stats] + (["--pin"] if pin else []) +
+                       (["--tile-rows", str(tile_rows)] if tile_rows else []), check=True)
         with open(stats) as f:
             return json.load(f)
+
+
+def report(a, info, rows):
+    """Writes the Markdown table, and the chart where gnuplot is installed."""
+    os.makedirs(os.path.dirname(a.out), exist_ok=True)
+    with open(os.path.splitext(a.out)[0] + ".json", "w") as f:
+        json.dump({"size": a.size, "frames": a.frames, "reps": a.reps, "pin": a.pin, "tile_rows": a.tile_rows, "info": info, "rows": rows}, f)
+    lines = ["# Thread scaling (%s, %d frames, %d rep(s), median frame ms%s; %s)" %
+             (a.size, a.frames, a.reps, (", workers pinned" if a.pin else "") + (", %d-row tiles" % a.tile_rows if getattr(a, "tile_rows", None) else ""), time.strftime("%Y-%m-%d %H:%M")), "", "Machine (`epsray info`):", "",
+             "```", info, "```", "",
+             "| scene | mode | threads | frame ms | speedup | efficiency |", "|---|---|---:|---:|---:|---:|"]
+    lines += ["| %s | %s | %d | %.1f | %.2f | %.2f |" % r for r in rows]
+    text = "\n".join(lines) + "\n"
+    with open(a.out, "w") as f:
+        f.write(text)
+    if shutil.which("gnuplot"):
+        dat = os.path.splitext(a.out)[0] + ".dat"
+        png = os.path.splitext(a.out)[0] + ".png"
+        series = sorted({(r[0], r[1]) for r in rows})
+        with open(dat, "w") as f:
+            for name, mode in series:
+                f.write("# %s %s\n" % (name, mode))
+                for r in rows:
+                    if (r[0], r[1]) == (name, mode):
+                        f.write("%d %.4f\n" % (r[2], r[4]))
+                f.write("\n\n")
+        plots = ", ".join("'%s' index %d with linespoints title '%s %s'" % (dat, i, n, m)
+                          for i, (n, m) in enumerate(series))
+        script = ("set terminal pngcairo size 800,600; set output '%s'; set xlabel 'threads'; "
+                  "set ylabel 'speedup over 1 thread'; set key left top; set grid; "
+                  "plot x title 'ideal' dashtype 2, %s" % (png, plots))
+        subprocess.run(["gnuplot", "-e", script])
 
 
 def main():
@@ -73,9 +106,20 @@ def main():
     ap.add_argument("--size", default="640x480")
     ap.add_argument("--reps", type=int, default=1)
     ap.add_argument("--modes", default="base,interp,full")
+    ap.add_argument("--pin", action="store_true", help="bind workers to cores (epsray --pin)")
+    ap.add_argument("--tile-rows", type=int, help="rows per tile (default: epsray's, from the thread count)")
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "epsray"))
     ap.add_argument("--out", default=os.path.join(ROOT, "perf", "results", "scaling.md"))
+    ap.add_argument("--replot", metavar="JSON", help="redraw the table and chart of an earlier run's JSON "
+                    "(a run on a machine without gnuplot)")
     a = ap.parse_args()
+    if a.replot:
+        with open(a.replot) as f:
+            r = json.load(f)
+        a.size, a.frames, a.reps, a.pin, a.tile_rows = r["size"], r["frames"], r["reps"], r["pin"], r.get("tile_rows")
+        report(a, r["info"], [tuple(x) for x in r["rows"]])
+        print("wrote", a.out)
+        return 0
     cores = os.cpu_count() or 1
     if a.threads:
         counts = [int(t) for t in a.threads.split(",")]
@@ -99,40 +143,15 @@ def main():
                 times = {t: [] for t in counts}
                 for _ in range(a.reps):
                     for t in counts:  # interleaved over thread counts
-                        times[t] += [f["ms"] for f in walk(a.exe, scene, path, mode, a.size, t)["frames"]]
+                        times[t] += [f["ms"] for f in walk(a.exe, scene, path, mode, a.size, t, a.pin, a.tile_rows)["frames"]]
                 med = {t: statistics.median(times[t]) for t in counts}
                 for t in counts:
                     s = med[counts[0]] / med[t] * counts[0]
                     rows.append((name, mode, t, med[t], s, s / t))
                     print("%-10s %-6s %3d threads  %8.1f ms  speedup %5.2f  efficiency %4.2f" % rows[-1], flush=True)
-    os.makedirs(os.path.dirname(a.out), exist_ok=True)
-    lines = ["# Thread scaling (%s, %d frames, %d rep(s), median frame ms; %s)" %
-             (a.size, a.frames, a.reps, time.strftime("%Y-%m-%d %H:%M")), "", "Machine (`epsray info`):", "",
-             "```", info, "```", "",
-             "| scene | mode | threads | frame ms | speedup | efficiency |", "|---|---|---:|---:|---:|---:|"]
-    lines += ["| %s | %s | %d | %.1f | %.2f | %.2f |" % r for r in rows]
-    text = "\n".join(lines) + "\n"
-    with open(a.out, "w") as f:
-        f.write(text)
-    print("wrote", a.out)
-    if shutil.which("gnuplot"):
-        dat = os.path.splitext(a.out)[0] + ".dat"
-        png = os.path.splitext(a.out)[0] + ".png"
-        series = sorted({(r[0], r[1]) for r in rows})
-        with open(dat, "w") as f:
-            for name, mode in series:
-                f.write("# %s %s\n" % (name, mode))
-                for r in rows:
-                    if (r[0], r[1]) == (name, mode):
-                        f.write("%d %.4f\n" % (r[2], r[4]))
-                f.write("\n\n")
-        plots = ", ".join("'%s' index %d with linespoints title '%s %s'" % (dat, i, n, m)
-                          for i, (n, m) in enumerate(series))
-        script = ("set terminal pngcairo size 800,600; set output '%s'; set xlabel 'threads'; "
-                  "set ylabel 'speedup over 1 thread'; set key left top; set grid; "
-                  "plot x title 'ideal' dashtype 2, %s" % (png, plots))
-        if subprocess.run(["gnuplot", "-e", script]).returncode == 0:
-            print("wrote", png)
+                report(a, info, rows)  # after every series, so a run cut short keeps its rows
+    report(a, info, rows)
+    print("wrote", a.out, "(and .json; .png where gnuplot is installed)")
     return 0
 
 
