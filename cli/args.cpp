@@ -54,7 +54,10 @@ std::string usage_text() {
          "       --min-cell-pixels P (no linetree cell is split into children covering fewer pixels),\n"
          "       --split 4|16 (halve the axes a failure points at, or always all four),\n"
          "       --pin (bind each worker thread to its own core, through hwloc),\n"
-         "       --memory-mb M (linetrees and caches: evict least recently used cells between frames)\n";
+         "       --memory-mb M (linetrees and caches: evict least recently used cells between frames)\n"
+         "baselines (perf/): --mode upsample [--upsample K] (trace every K-th pixel each way, bilinear),\n"
+         "       --mode reuse [--reuse-age N] (last frame's pixels reprojected, no error control),\n"
+         "       --mode lightfield [--lf-depth D] (fixed-depth linetrees, no error predicate)\n";
 }
 
 cli_options parse_args(const std::vector<std::string>& a) {
@@ -83,7 +86,8 @@ cli_options parse_args(const std::vector<std::string>& a) {
     else if (f == "--size") o.size = to_size(value());
     else if (f == "--mode") {
       const std::string& m = value();
-      if (!parse_mode(m, o.mode)) bad("bad --mode '" + m + "': expected base, interp or full");
+      if (!parse_mode(m, o.mode))
+        bad("bad --mode '" + m + "': expected base, interp or full (or a baseline: upsample, reuse, lightfield)");
     } else if (f == "--eps") o.eps = float(to_number("--eps", value(), 0, 1e6));
     else if (f == "--threads") o.threads = int(to_int("--threads", value(), 1, 1024));
     else if (f == "--tile-rows") o.tile_rows = int(to_int("--tile-rows", value(), 1, 16384));
@@ -108,6 +112,9 @@ cli_options parse_args(const std::vector<std::string>& a) {
     } else if (f == "--quiet") o.quiet = true;
     else if (f == "--pin") o.pin = true;
     else if (f == "--memory-mb") o.memory_mb = to_number("--memory-mb", value(), 1, 1e6);
+    else if (f == "--upsample" && !view) o.upsample = int(to_int("--upsample", value(), 1, 64));
+    else if (f == "--reuse-age" && !view) o.reuse_age = int(to_int("--reuse-age", value(), 0, 60000));
+    else if (f == "--lf-depth" && !view) o.lf_depth = int(to_int("--lf-depth", value(), 0, 16));
     else bad("unknown option '" + f + "' for " + o.command);
   }
   if (o.command != "info" && !view && o.scene.empty()) bad(o.command + " needs a SCENE file");  // view: the art room

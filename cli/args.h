@@ -30,6 +30,7 @@ struct cli_options {
   bool four_way = true;
   bool pin = false;  // bind worker threads to cores (hwloc)
   double memory_mb = 0;  // linetree memory budget; 0: none
+  int upsample = 2, reuse_age = 4, lf_depth = 4;  // the baselines' knobs (frame_params)
   bool png_flag = false, pfm_flag = false, verify = false, quiet = false;
 };
 

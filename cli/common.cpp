@@ -80,11 +80,12 @@ frame_params make_frame_params(const cli_options& o, linetree_set* trees, reproj
   fp.reproj = reproj;
   fp.tile_rows = o.tile_rows;
   fp.reasons = !o.reasons.empty();
+  fp.upsample = o.upsample, fp.reuse_age = o.reuse_age, fp.lf_depth = o.lf_depth;
   return fp;
 }
 
 std::unique_ptr<linetree_set> make_linetrees(const cli_options& o, const world& w) {
-  if (o.mode == render_mode::base) return nullptr;
+  if (o.mode == render_mode::base || o.mode == render_mode::upsample || o.mode == render_mode::reuse) return nullptr;
   return std::make_unique<linetree_set>(w.prim_bounds, size_t(o.memory_mb * 1048576.0));
 }
 

@@ -16,7 +16,7 @@ struct frame_record {
   path_times path_ms;  // thread time per path
   double reproject_ms = 0;
   bool verified = false;
-  double max_rel_err = 0, p999_rel_err = 0;
+  double max_rel_err = 0, p999_rel_err = 0, mean_rel_err = 0;
   std::uint64_t violations = 0;
 };
 

@@ -3,10 +3,13 @@
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <stdexcept>
 #include <vector>
 
+#include "baselines/lightfield.h"
+#include "baselines/upsample.h"
 #include "reproject/reproject.h"
 #include "shade/shade_rows.h"
 #include "cycle_clock.h"
@@ -19,6 +22,9 @@ const char* mode_name(render_mode m) {
     case render_mode::base: return "base";
     case render_mode::interp: return "interp";
     case render_mode::full: return "full";
+    case render_mode::upsample: return "upsample";
+    case render_mode::reuse: return "reuse";
+    case render_mode::lightfield: return "lightfield";
   }
   return "?";
 }
@@ -27,6 +33,9 @@ bool parse_mode(const std::string& s, render_mode& out) {
   if (s == "base") return out = render_mode::base, true;
   if (s == "interp") return out = render_mode::interp, true;
   if (s == "full") return out = render_mode::full, true;
+  if (s == "upsample") return out = render_mode::upsample, true;
+  if (s == "reuse") return out = render_mode::reuse, true;
+  if (s == "lightfield") return out = render_mode::lightfield, true;
   return false;
 }
 
@@ -51,8 +60,8 @@ void note_cell(std::vector<cell_ref>& cells, const cell_ref& c) {
 
 // Interp and full modes. Full: a pixel owned by one of last frame's cells is span-filled
 // from it; otherwise, and when its bound fails, it takes the interpolate path.
-void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, const tile& t, image& out, image* reasons,
-                       tile_totals& tot) {
+void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int lf_depth, const tile& t, image& out,
+                       image* reasons, tile_totals& tot) {
   trace_state st;
   interp_scratch scratch;
   const camera& cam = *f.cam;
@@ -63,6 +72,8 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, cons
       const std::int32_t own = rp ? rp->owner[size_t(y) * size_t(cam.width) + size_t(x)] : -1;
       if (own >= 0 && fill_pixel(*f.w, cam, (*rp->cells)[size_t(own)], x, y, f.p.eps, r.L)) {
         r.path = pixel_path::fast, r.reason = pixel_reason::reprojected, r.cell = (*rp->cells)[size_t(own)];
+      } else if (lf_depth >= 0) {
+        r = shade_pixel_lightfield(f, lf_depth, x, y, st, scratch);
       } else {
         r = shade_pixel_interp(f, x, y, st, scratch);
       }
@@ -84,8 +95,10 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, cons
 }  // namespace
 
 frame_result render_frame(workers& pool, const world& w, const camera& cam, const frame_params& p) {
-  if (p.mode != render_mode::base && !p.trees) throw std::logic_error("interp and full modes need a linetree set");
-  if (p.mode == render_mode::full && !p.reproj) throw std::logic_error("full mode needs a reprojection state");
+  const bool interpolates = p.mode == render_mode::interp || p.mode == render_mode::full || p.mode == render_mode::lightfield;
+  if (interpolates && !p.trees) throw std::logic_error("interp, full and lightfield modes need a linetree set");
+  if ((p.mode == render_mode::full || p.mode == render_mode::reuse) && !p.reproj)
+    throw std::logic_error("full and reuse modes need a reprojection state");
   const double tick_ms = ticks_per_ms();
   if (p.trees) p.trees->next_frame();
   auto t0 = std::chrono::steady_clock::now();
@@ -121,25 +134,86 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     out.trusted_cells = std::uint64_t(std::count(trusted.begin(), trusted.end(), std::uint8_t(1)));
     out.reproject_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
   }
-  pool.run([&] {
-    tbb::parallel_for(size_t(0), tiles.size(), [&](size_t i) {
-      if (p.mode == render_mode::base) {
+  // Upsample: the reduced frame first, traced over its own tiles.
+  image low;
+  const camera low_cam = p.mode == render_mode::upsample ? reduced_camera(cam, std::max(1, p.upsample)) : camera{};
+  if (p.mode == render_mode::upsample) {
+    low = image::unwritten(low_cam.width, low_cam.height);
+    const std::vector<tile> low_tiles = make_tiles(low_cam.height, rows);
+    std::vector<tile_totals> low_totals(low_tiles.size());
+    pool.run([&] {
+      tbb::parallel_for(size_t(0), low_tiles.size(), [&](size_t i) {
         const std::uint64_t c0 = cycle_now();
         trace_state st;
-        shade_rows_base(w, cam, tiles[i].y0, tiles[i].y1, out.img, st, p.keep_ray_trees ? &trees[i] : nullptr);
-        totals[i].rays = st.counts;
-        totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
-        if (p.reasons)
-          for (int y = tiles[i].y0; y < tiles[i].y1; ++y)
-            for (int x = 0; x < cam.width; ++x) out.reasons.at(x, y) = reason_colour(pixel_reason::traced);
-        totals[i].ticks_base = cycle_now() - c0;
-      } else {
-        shade_tile_interp(f, p.mode == render_mode::full ? &rp : nullptr, tiles[i], out.img,
-                          p.reasons ? &out.reasons : nullptr, totals[i]);
-        settle_cells(totals[i].cells);  // here, in parallel: the serial merge below then sorts far fewer
+        shade_rows_base(w, low_cam, low_tiles[i].y0, low_tiles[i].y1, low, st, nullptr);
+        low_totals[i].rays = st.counts;
+        low_totals[i].pixels.base = std::uint64_t(low_tiles[i].y1 - low_tiles[i].y0) * std::uint64_t(low_cam.width);
+        low_totals[i].ticks_base = cycle_now() - c0;
+      });
+    });
+    totals.insert(totals.end(), low_totals.begin(), low_totals.end());  // counted with the frame's
+  }
+  // Reuse: last frame's points splatted into this view, nearest first.
+  std::vector<std::atomic<std::uint64_t>> nearest;
+  reuse_state* reuse = p.mode == render_mode::reuse ? &p.reproj->pixels : nullptr;
+  if (reuse) {
+    const bool carried = reuse->last.width == cam.width && reuse->last.height == cam.height;
+    reuse->next.resize(cam.width, cam.height);
+    if (carried) {
+      const auto r0 = std::chrono::steady_clock::now();
+      nearest = std::vector<std::atomic<std::uint64_t>>(size_t(cam.width) * size_t(cam.height));
+      const size_t n = nearest.size(), chunk = 4096;
+      pool.run([&] {
+        tbb::parallel_for(size_t(0), n, chunk, [&](size_t i) {
+          for (size_t j = i; j < std::min(n, i + chunk); ++j) nearest[j].store(~std::uint64_t(0), std::memory_order_relaxed);
+        });
+        tbb::parallel_for(size_t(0), n, chunk, [&](size_t i) {
+          splat_points(reuse->last, cam, p.reuse_age, i, std::min(n, i + chunk), nearest.data());
+        });
+      });
+      out.reproject_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
+    }
+  }
+  pool.run([&] {
+    tbb::parallel_for(size_t(0), tiles.size(), [&](size_t i) {
+      const std::uint64_t c0 = cycle_now();
+      trace_state st;
+      switch (p.mode) {
+        case render_mode::base:
+          shade_rows_base(w, cam, tiles[i].y0, tiles[i].y1, out.img, st, p.keep_ray_trees ? &trees[i] : nullptr);
+          totals[i].rays = st.counts;
+          totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
+          totals[i].ticks_base = cycle_now() - c0;
+          break;
+        case render_mode::upsample:  // the traced pixels are counted with the reduced frame's tiles
+          upsample_rows(low, cam, std::max(1, p.upsample), tiles[i].y0, tiles[i].y1, out.img);
+          totals[i].pixels.interp = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
+          totals[i].ticks_interp = cycle_now() - c0;
+          break;
+        case render_mode::reuse: {
+          const std::uint64_t reused = shade_rows_reuse(w, cam, reuse->last, nearest.empty() ? nullptr : nearest.data(),
+                                                        tiles[i].y0, tiles[i].y1, out.img, reuse->next, st);
+          totals[i].rays = st.counts;
+          totals[i].pixels.fast = reused;
+          totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width) - reused;
+          totals[i].ticks_base = cycle_now() - c0;  // per pixel, not per path: one band of both
+          break;
+        }
+        case render_mode::interp:
+        case render_mode::full:
+        case render_mode::lightfield:
+          shade_tile_interp(f, p.mode == render_mode::full ? &rp : nullptr,
+                            p.mode == render_mode::lightfield ? p.lf_depth : -1, tiles[i], out.img,
+                            p.reasons ? &out.reasons : nullptr, totals[i]);
+          settle_cells(totals[i].cells);  // here, in parallel: the serial merge below then sorts far fewer
+          break;
       }
+      if (p.reasons && (p.mode == render_mode::base || p.mode == render_mode::upsample || p.mode == render_mode::reuse))
+        for (int y = tiles[i].y0; y < tiles[i].y1; ++y)
+          for (int x = 0; x < cam.width; ++x) out.reasons.at(x, y) = reason_colour(pixel_reason::traced);
     });
   });
+  if (reuse) std::swap(reuse->last, reuse->next);
   for (const tile_totals& t : totals) {
     out.rays += t.rays, out.pixels += t.pixels;
     out.path_ms.fast += double(t.ticks_fast) / tick_ms;

@@ -7,6 +7,7 @@
 
 #include "image/image.h"
 #include "interp/interp_shade.h"
+#include "baselines/pixel_reuse.h"
 #include "interp/linetree.h"
 #include "scene/camera.h"
 #include "shade/ray_tree_store.h"
@@ -15,7 +16,11 @@
 
 namespace epsray {
 
-enum class render_mode { base, interp, full };
+// base, interp and full are the contract's modes. The rest are the baselines the
+// speed-against-accuracy suite compares them with (engine/baselines): the base tracer at
+// reduced resolution upsampled, reuse of last frame's pixels without error control, and
+// interpolation without the predicate in fixed-depth linetrees.
+enum class render_mode { base, interp, full, upsample, reuse, lightfield };
 const char* mode_name(render_mode m);
 bool parse_mode(const std::string& s, render_mode& out);
 
@@ -34,9 +39,10 @@ struct path_times {
 };
 
 // What full mode carries from one frame to the next besides the linetrees: the cells that
-// gave pixels their radiance.
+// gave pixels their radiance. The reuse baseline carries last frame's pixels instead.
 struct reprojection_state {
   std::vector<cell_ref> cells;
+  reuse_state pixels;
 };
 
 struct frame_params {
@@ -48,6 +54,10 @@ struct frame_params {
   int tile_rows = 0;               // 0: default_tile_rows
   bool keep_ray_trees = false;     // base: fill frame_result::trees, one per pixel, raster order
   bool reasons = false;            // fill frame_result::reasons (the error-coded image)
+  // The baselines' one knob each.
+  int upsample = 2;    // upsample: trace every k-th pixel along each axis
+  int reuse_age = 4;   // reuse: frames a pixel's radiance may be carried before it is traced again
+  int lf_depth = 4;    // lightfield: halvings of every axis of each linetree
 };
 
 struct frame_result {

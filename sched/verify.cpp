@@ -25,8 +25,10 @@ verify_result verify_frame(workers& pool, const world& w, const camera& cam, con
     errs[i] = pixel_error(acc.pixels[i], ref.img.pixels[i]);
     r.max_rel_err = std::max(r.max_rel_err, errs[i]);
     if (errs[i] > double(eps)) ++r.violations;
+    r.mean_rel_err += errs[i];
   }
   if (!errs.empty()) {
+    r.mean_rel_err /= double(errs.size());
     size_t k = std::min(errs.size() - 1, size_t(0.999 * double(errs.size())));
     std::nth_element(errs.begin(), errs.begin() + std::ptrdiff_t(k), errs.end());
     r.p999_rel_err = errs[k];

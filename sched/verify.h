@@ -11,6 +11,7 @@ struct verify_result {
   double max_rel_err = 0;
   std::uint64_t violations = 0;  // pixels with max_c e_c > eps
   double p999_rel_err = 0;       // 99.9th percentile of the per-pixel error
+  double mean_rel_err = 0;
 };
 
 // e_c = |La_c - Lw_c| / max(Lw_c, 1/255); a pixel's error is the largest over c.

@@ -16,6 +16,8 @@
 namespace epsray {
 namespace {
 
+using test::same_pixels;
+
 using test::temp_dir;
 
 using test::proc_result;
@@ -172,6 +174,9 @@ INSTANTIATE_TEST_SUITE_P(
         bad_flags{"eps_inf", render_args({"--eps", "inf"}), "--eps"},
         bad_flags{"eps_trailing_junk", render_args({"--eps", "0.1x"}), "--eps"},
         bad_flags{"mode_foo", render_args({"--mode", "foo"}), "--mode"},
+        bad_flags{"upsample_0", render_args({"--upsample", "0"}), "--upsample"},
+        bad_flags{"reuse_age_negative", render_args({"--reuse-age", "-1"}), "--reuse-age"},
+        bad_flags{"lf_depth_17", render_args({"--lf-depth", "17"}), "--lf-depth"},
         bad_flags{"unknown_option", render_args({"--bogus"}), "--bogus"},
         bad_flags{"frame_without_path", render_args({"--frame", "0"}), "--frame"},
         bad_flags{"frame_out_of_range", render_args({"--path", "two.path", "--frame", "2"}), "--frame"},
@@ -209,11 +214,6 @@ frame_result render_in_process(const std::string& scene_path, const camera_view&
   world w = make_world(load_scene(scene_path));
   workers pool(threads);
   return render_frame(pool, w, make_camera(view, width, height), frame_params{});
-}
-
-bool same_pixels(const image& a, const image& b) {
-  return a.width == b.width && a.height == b.height &&
-         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(glm::vec3)) == 0;
 }
 
 TEST_F(Cli, GoodRunWritesImagesAndStats) {

@@ -20,6 +20,8 @@
 namespace epsray {
 namespace {
 
+using test::same_pixels;
+
 using test::temp_dir;
 
 // Every primitive kind, glass, mirrors, patches, textures and three lights.
@@ -45,11 +47,6 @@ const char* builtin_scene =
     "push\ntranslate 0 2 1.2\nrotate 0 0 1 30\nscale 0.7\n"
     "pp 4\n-1 -1 0 0.2 0 1\n1 -1 0 0 0.2 1\n1 1 0 -0.2 0 1\n-1 1 0 0 -0.2 1\n"
     "pop\n";
-
-bool same_pixels(const image& a, const image& b) {
-  return a.width == b.width && a.height == b.height &&
-         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(glm::vec3)) == 0;
-}
 
 void expect_same_counts(const ray_counts& a, const ray_counts& b) {
   EXPECT_EQ(a.eye, b.eye);

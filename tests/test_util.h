@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstring>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include <string_view>
 
 #include "accel/world.h"
+#include "image/image.h"
 #include "scene/nff.h"
 
 namespace epsray::test {
@@ -64,6 +66,12 @@ class temp_dir {
  private:
   fs::path path_;
 };
+
+// Bit-identical images (the determinism tests: same pixels for any thread count).
+inline bool same_pixels(const image& a, const image& b) {
+  return a.width == b.width && a.height == b.height &&
+         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(glm::vec3)) == 0;
+}
 
 inline void write_file(const std::string& path, std::string_view text) {
   std::ofstream out(path, std::ios::binary);

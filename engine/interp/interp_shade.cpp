@@ -36,12 +36,20 @@ std::uint8_t axes_by_extent(const lt_node& n) {
   return ac > 1.5f * bd ? split_ac : (bd > 1.5f * ac ? split_bd : split_all);
 }
 
+bool strictly_inside(const lt_node& n, const float x[4]) {
+  for (int i = 0; i < 4; ++i)
+    if (!(x[i] > n.lo[i] && x[i] < n.hi[i])) return false;
+  return true;
+}
+
+}  // namespace
+
 // The 16 extremal lines of a cell, traced against the object alone (occlusion in front of
 // it is the visibility ray's business), each looked up in the shared sample cache first and
 // published there after tracing; then the topology test and the predicate.
 std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const facepair& fp, const lt_node& n,
                                                bool terminal, sample_cache& cache, trace_state& st,
-                                               interp_scratch& scratch) {
+                                               interp_scratch& scratch, bool predicate) {
   auto ip = std::make_unique<interpolant>();
   const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
   ip->textured = m.texture >= 0;
@@ -125,6 +133,7 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     ip->rad[k] = samples[k].rad, ip->tex[k] = samples[k].tex, ip->uv[k] = samples[k].uv;
     ip->rad_min = glm::min(ip->rad_min, samples[k].rad);
   }
+  if (!predicate) return ip;  // the light-field baseline: "valid" with a claimed error of 0
   // Canonical trees are equal exactly when they are the same object. Corner k's class is
   // the first corner with its topology.
   bool differ = false;
@@ -150,13 +159,6 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
   return ip;
 }
 
-bool strictly_inside(const lt_node& n, const float x[4]) {
-  for (int i = 0; i < 4; ++i)
-    if (!(x[i] > n.lo[i] && x[i] < n.hi[i])) return false;
-  return true;
-}
-
-}  // namespace
 
 // Is the proven bound within epsilon for every line of the cell? Decides subdivision, so
 // it depends on the cell alone. Textured cells defer to the per-pixel test.
@@ -291,7 +293,7 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
     }
     if (!ip) {
       const bool terminal = node->depth >= f.p.max_depth || pixels < 2 * f.p.min_cell_pixels;
-      ip = publish(*node, build_interpolant(w, h.prim, lt.fp, *node, terminal, f.trees->samples(), st, scratch));
+      ip = publish(*node, build_interpolant(w, h.prim, lt.fp, *node, terminal, f.trees->samples(), st, scratch, true));
     }
     if (!cell_accurate(*ip, f.p.eps)) {
       const std::uint8_t axes = f.p.four_way ? ip->split : std::uint8_t(split_all);

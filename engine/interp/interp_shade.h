@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 
 #include "image/image.h"
 #include "interp/linetree.h"
@@ -75,6 +76,15 @@ bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye);
 // The interpolated radiance of the line x4 of cell n, when the bound meets epsilon for it.
 bool interpolate_line(const world& w, int prim, const lt_node& n, const interpolant& ip, const float x4[4], float eps,
                       glm::vec3& L);
+
+// The interpolant of cell n of prim's facepair fp: its 16 extremal lines traced against the
+// object alone (through the shared sample cache), then the topology test and the error
+// predicate. terminal: n will not be split, so stop at the first two differing corners.
+// predicate false (the light-field baseline, engine/baselines): no topology test and no
+// bound; only corners that miss the object still fail the cell.
+std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const facepair& fp, const lt_node& n,
+                                               bool terminal, sample_cache& cache, trace_state& st,
+                                               interp_scratch& scratch, bool predicate);
 
 // The paper's colours for the error-coded image.
 glm::vec3 reason_colour(pixel_reason r);
