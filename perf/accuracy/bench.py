@@ -1,19 +1,28 @@
 #!/usr/bin/env python3
-"""Speed against accuracy (issue 7, first part): one walkthrough at many epsilons.
+"""Speed against accuracy (issue 7): the bounded-error system and the alternatives a user
+might pick instead, on the same engine, over the same walkthroughs.
 
-For each epsilon, a `--mode full --verify` walk and a `--mode base` walk of the same path,
-side by side; reports the median frame time relative to base and the error actually
-measured against the Whitted radiance (max and 99.9th percentile over the walk, pixels
-over epsilon), and charts time against error (gnuplot, when installed).
+Per scene, one camera path, every method with `--verify` (the error of every pixel against
+the Whitted radiance, whitted.md 6): frame time relative to `--mode base` measured in the
+same run (base walks interleaved with the others), and the error actually measured: max,
+99.9th percentile and mean over the walk, and pixels over 0.05. Methods:
+  full        the bounded-error system, one point per epsilon (--eps);
+  upsample    the base tracer at 1/K resolution, bilinear (--upsample K);
+  reuse       last frame's pixels reprojected without error control, each for at most N
+              frames (--reuse-age N; a render-cache-like baseline);
+  lightfield  fixed-depth linetrees interpolated without the error predicate (--lf-depth D).
+Writes a Markdown table per scene, the raw JSON, and (gnuplot) a chart per scene: time
+against error, max and 99.9th percentile side by side.
 
-    perf/accuracy/bench.py [--scene scenes/artroom.nff] [--path scenes/paths/artroom-walk.path]
-                           [--frames 20] [--size 400x300] [--eps 0.005,0.01,...,0.5]
-                           [--exe build/epsray] [--out perf/results/accuracy.md]
-Not yet here: the alternatives of issue 7 (upsampled base, uncontrolled reprojection,
-interpolation without the predicate) on the same axes.
+    perf/accuracy/bench.py [SCENE ...] [--frames 20] [--size 400x300] [--threads N]
+                           [--eps 0.005,...,0.5] [--upsample 2,3,4,6] [--reuse-age 1,2,4,8,32]
+                           [--lf-depth 3,4,5,6] [--exe build/epsray] [--out perf/results/accuracy.md]
+Default scenes: scenes/artroom.nff on its walk (scenes/paths/artroom-walk.path), and, when
+../shared is present, the SPD scenes balls-s3 and teapot-s6 on a slow orbit of their view.
 """
 import argparse
 import json
+import math
 import os
 import shutil
 import statistics
@@ -23,70 +32,127 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SPD = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd")
+sys.path.insert(0, os.path.join(ROOT, "perf"))
+from common import orbit_path  # noqa: E402  (a slow orbit of a scene's own view)
+
+NOMINAL_EPS = 0.05  # the baselines have no epsilon: "over" counts pixels over this one
 
 
-def walk(exe, scene, path, mode, size, eps, verify):
+def walk(exe, scene, path, size, threads, mode, eps, extra=()):
     with tempfile.TemporaryDirectory() as d:
         stats = os.path.join(d, "s.json")
         cmd = [exe, "walk", scene, "--path", path, "--mode", mode, "--size", size, "--eps", str(eps), "--quiet",
-               "--stats", stats]
-        if verify:
+               "--threads", str(threads), "--stats", stats] + list(extra)
+        if mode != "base":
             cmd.append("--verify")
         subprocess.run(cmd, check=True)
         with open(stats) as f:
             return json.load(f)["frames"]
 
 
+def summary(frames, base_ms):
+    v = [f["verify"] for f in frames]
+    n = sum(sum(f["pixels"].values()) for f in frames)
+    return {"ratio": statistics.median(f["ms"] for f in frames) / base_ms,
+            "max": max(x["max_rel_err"] for x in v), "p999": max(x["p999_rel_err"] for x in v),
+            "mean": statistics.fmean(x["mean_rel_err"] for x in v), "over": sum(x["violations"] for x in v),
+            "fast": sum(f["pixels"]["fast"] for f in frames) / n, "interp": sum(f["pixels"]["interp"] for f in frames) / n}
+
+
+def chart(name, rows, png, dat):
+    """Time against error, one series per method; max error and 99.9th percentile panels."""
+    methods = [m for m in ("full", "upsample", "reuse", "lightfield") if any(r["method"] == m for r in rows)]
+    with open(dat, "w") as f:
+        for m in methods:
+            f.write("# %s: param ratio max p999 mean\n" % m)
+            for r in sorted((r for r in rows if r["method"] == m), key=lambda r: r["param"]):
+                f.write("%g %g %g %g %g\n" % (r["param"], r["ratio"], max(r["max"], 1e-6), max(r["p999"], 1e-6),
+                                              max(r["mean"], 1e-6)))
+            f.write("\n\n")
+    title = {"full": "bounded error (eps)", "upsample": "base at 1/K, upsampled", "reuse": "pixel reuse, no control",
+             "lightfield": "fixed-depth interpolation, no predicate"}
+
+    def plot(col, label):
+        series = ", ".join("'%s' index %d using %d:2 with linespoints lw 2 title '%s'" % (dat, i, col, title[m])
+                           for i, m in enumerate(methods))
+        return ("set xlabel '%s (relative, measured against Whitted)'; plot %s, 1 with lines dt 2 lc 'gray' "
+                "title 'base tracer'; " % (label, series))
+    script = ("set terminal pngcairo size 1400,560; set output '%s'; set multiplot layout 1,2 title '%s: frame time "
+              "against error'; set logscale x; set grid; set ylabel 'frame time / base'; set yrange [0:*]; "
+              "set key top right; " % (png, name) + plot(3, "max error") + plot(4, "99.9th percentile error") +
+              "unset multiplot")
+    subprocess.run(["gnuplot", "-e", script], check=False)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--scene", default=os.path.join(ROOT, "scenes", "artroom.nff"))
-    ap.add_argument("--path", default=os.path.join(ROOT, "scenes", "paths", "artroom-walk.path"))
+    ap.add_argument("scenes", nargs="*")
+    ap.add_argument("--path", help="camera path for the first scene (default: the art room's walk)")
     ap.add_argument("--frames", type=int, default=20)
     ap.add_argument("--size", default="400x300")
+    ap.add_argument("--threads", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--eps", default="0.005,0.01,0.02,0.05,0.1,0.2,0.5")
+    ap.add_argument("--upsample", default="2,3,4,6")
+    ap.add_argument("--reuse-age", default="1,2,4,8,32")
+    ap.add_argument("--lf-depth", default="3,4,5,6")
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "epsray"))
     ap.add_argument("--out", default=os.path.join(ROOT, "perf", "results", "accuracy.md"))
     a = ap.parse_args()
-    rows = []
-    with tempfile.TemporaryDirectory() as d:
-        path = os.path.join(d, "walk.path")
-        with open(a.path) as src, open(path, "w") as dst:
-            lines = [l for l in src if l.strip() and not l.lstrip().startswith("#")]
-            dst.writelines(lines[:a.frames])
-        for eps in [float(e) for e in a.eps.split(",")]:
-            base = walk(a.exe, a.scene, path, "base", a.size, eps, False)  # interleaved with full
-            full = walk(a.exe, a.scene, path, "full", a.size, eps, True)
-            ratio = statistics.median(f["ms"] for f in full) / statistics.median(f["ms"] for f in base)
-            worst = max(f["verify"]["max_rel_err"] for f in full)
-            p999 = max(f["verify"]["p999_rel_err"] for f in full)
-            over = sum(f["verify"]["violations"] for f in full)
-            px = {k: sum(f["pixels"][k] for f in full) for k in ("fast", "interp", "base")}
-            n = sum(px.values())
-            rows.append((eps, ratio, worst, p999, over, px["fast"] / n, px["interp"] / n))
-            print("eps %-6g full/base time %5.2f  max err %.4f  99.9%% %.4f  over %d  fast %4.1f%%  interp %4.1f%%" %
-                  (eps, ratio, worst, p999, over, 100 * rows[-1][5], 100 * rows[-1][6]), flush=True)
+    scenes = a.scenes or [os.path.join(ROOT, "scenes", "artroom.nff")] + [
+        os.path.join(SPD, s + ".nff") for s in ("balls-s3", "teapot-s6") if os.path.exists(os.path.join(SPD, s + ".nff"))]
+    runs = [("full", float(e), ["--eps", e]) for e in a.eps.split(",")]
+    runs += [("upsample", int(k), ["--upsample", k]) for k in a.upsample.split(",") if k]
+    runs += [("reuse", int(n), ["--reuse-age", n]) for n in a.reuse_age.split(",") if n]
+    runs += [("lightfield", int(d), ["--lf-depth", d]) for d in a.lf_depth.split(",") if d]
+    out_base = os.path.splitext(a.out)[0]
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
-    text = ["# Speed against accuracy: %s, %d frames of %s, %s; %s" %
-            (os.path.basename(a.scene), a.frames, os.path.basename(a.path), a.size, time.strftime("%Y-%m-%d %H:%M")),
-            "", "| eps | full / base frame time | max error | 99.9th pct error | pixels over eps | fast | interp |",
-            "|---:|---:|---:|---:|---:|---:|---:|"]
-    text += ["| %g | %.2f | %.4f | %.4f | %d | %.1f%% | %.1f%% |" % (r[0], r[1], r[2], r[3], r[4], 100 * r[5], 100 * r[6])
-             for r in rows]
-    with open(a.out, "w") as f:
-        f.write("\n".join(text) + "\n")
-    print("wrote", a.out)
-    if shutil.which("gnuplot"):
-        dat, png = os.path.splitext(a.out)[0] + ".dat", os.path.splitext(a.out)[0] + ".png"
-        with open(dat, "w") as f:
+    text = ["# Speed against accuracy (%s, %d frames, %d threads; %s)" % (a.size, a.frames, a.threads,
+                                                                        time.strftime("%Y-%m-%d %H:%M")), "",
+            "Frame time is the median over the walk relative to `--mode base` in the same run; errors are "
+            "whitted.md 6's, over every pixel of every frame; 'over' counts pixels over eps (full) or over %g "
+            "(the baselines have no bound)." % NOMINAL_EPS, ""]
+    raw = {}
+    with tempfile.TemporaryDirectory() as d:
+        for si, scene in enumerate(scenes):
+            name = os.path.splitext(os.path.basename(scene))[0]
+            path = os.path.join(d, name + ".path")
+            if si == 0 and (a.path or name == "artroom"):
+                src = a.path or os.path.join(ROOT, "scenes", "paths", "artroom-walk.path")
+                with open(src) as s, open(path, "w") as o:
+                    o.writelines([l for l in s if l.strip() and not l.lstrip().startswith("#")][:a.frames])
+            else:
+                orbit_path(scene, a.frames, path)
+            base_ms, rows = [], []
+            for i, (method, param, extra) in enumerate(runs):
+                if i % 4 == 0:  # base interleaved: every fourth run, and once at the end
+                    base_ms += [f["ms"] for f in walk(a.exe, scene, path, a.size, a.threads, "base", 0)]
+                eps = param if method == "full" else NOMINAL_EPS
+                frames = walk(a.exe, scene, path, a.size, a.threads, method, eps, extra)
+                rows.append(dict(method=method, param=param, frames=frames))
+            base_ms += [f["ms"] for f in walk(a.exe, scene, path, a.size, a.threads, "base", 0)]
+            med = statistics.median(base_ms)
             for r in rows:
-                f.write("%g %g %g %g\n" % (r[0], r[1], r[2], r[3]))
-        script = ("set terminal pngcairo size 800,600; set output '%s'; set logscale x; set grid; "
-                  "set xlabel 'relative error (measured against Whitted)'; set ylabel 'frame time / base'; "
-                  "set key left top; plot '%s' using 3:2 with linespoints title 'max error', "
-                  "'%s' using 4:2 with linespoints title '99.9th percentile', "
-                  "'%s' using 1:2 with points pt 6 title 'epsilon (the bound)'" % (png, dat, dat, dat))
-        if subprocess.run(["gnuplot", "-e", script]).returncode == 0:
-            print("wrote", png)
+                r.update(summary(r.pop("frames"), med))
+                print("%-10s %-10s %-6g time %5.2f  max %9.4g  99.9%% %9.4g  mean %8.4g  over %d" %
+                      (name, r["method"], r["param"], r["ratio"], r["max"], r["p999"], r["mean"], r["over"]), flush=True)
+            raw[name] = {"base_median_ms": med, "rows": rows}
+            text += ["## %s (base median %.1f ms a frame)" % (name, med), "",
+                     "![%s](%s)" % (name, os.path.basename(out_base) + "-" + name + ".png"), "",
+                     "| method | setting | time / base | max error | 99.9th pct | mean | over | fast | interp |",
+                     "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+            knob = {"full": "eps %g", "upsample": "K %d", "reuse": "age %d", "lightfield": "depth %d"}
+            text += ["| %s | %s | %.2f | %.4g | %.4g | %.4g | %d | %.1f%% | %.1f%% |" %
+                     (r["method"], knob[r["method"]] % r["param"], r["ratio"], r["max"], r["p999"], r["mean"], r["over"],
+                      100 * r["fast"], 100 * r["interp"]) for r in rows]
+            text.append("")
+            with open(a.out, "w") as f:  # after every scene: a run cut short keeps what it measured
+                f.write("\n".join(text) + "\n")
+            with open(out_base + ".json", "w") as f:
+                json.dump(raw, f, indent=1)
+            if shutil.which("gnuplot"):
+                chart(name, rows, out_base + "-" + name + ".png", out_base + "-" + name + ".dat")
+    print("wrote", a.out)
     return 0
 
 

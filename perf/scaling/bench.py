@@ -13,7 +13,6 @@ teapot-s6; each walks 12 frames of a slow orbit around its own camera's target.
 """
 import argparse
 import json
-import math
 import os
 import shutil
 import statistics
@@ -24,36 +23,8 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SPD = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd")
-
-
-def view_of(scene):
-    v = {"from": [0, 0, 0], "at": [0, 0, -1], "up": [0, 1, 0], "angle": 45}
-    with open(scene) as f:
-        for line in f:
-            k = line.split()
-            if k and k[0] in ("from", "at", "up"):
-                v[k[0]] = [float(x) for x in k[1:4]]
-            elif k and k[0] == "angle":
-                v["angle"] = float(k[1])
-    return v
-
-
-def orbit_path(scene, frames, out):
-    """A slow turn about the view's up axis through 'at': about 1 degree a frame."""
-    v = view_of(scene)
-    f, a, u = v["from"], v["at"], v["up"]
-    n = math.sqrt(sum(x * x for x in u)) or 1
-    u = [x / n for x in u]
-    rel = [f[i] - a[i] for i in range(3)]
-    with open(out, "w") as o:
-        for k in range(frames):
-            t = math.radians(1.0 * k)
-            # Rodrigues rotation of rel about u by t.
-            d = sum(rel[i] * u[i] for i in range(3))
-            cx = [u[1] * rel[2] - u[2] * rel[1], u[2] * rel[0] - u[0] * rel[2], u[0] * rel[1] - u[1] * rel[0]]
-            r = [rel[i] * math.cos(t) + cx[i] * math.sin(t) + u[i] * d * (1 - math.cos(t)) for i in range(3)]
-            p = [a[i] + r[i] for i in range(3)]
-            o.write("%g %g %g  %g %g %g  %g %g %g  %g\n" % (*p, *a, *u, v["angle"]))
+sys.path.insert(0, os.path.join(ROOT, "perf"))
+from common import orbit_path  # noqa: E402
 
 
 def walk(exe, scene, path, mode, size, threads, pin, tile_rows=None):

@@ -1,0 +1,32 @@
+"""Helpers shared by the perf scripts: camera paths made from a scene's own view."""
+import math
+
+
+def view_of(scene):
+    v = {"from": [0, 0, 0], "at": [0, 0, -1], "up": [0, 1, 0], "angle": 45}
+    with open(scene) as f:
+        for line in f:
+            k = line.split()
+            if k and k[0] in ("from", "at", "up"):
+                v[k[0]] = [float(x) for x in k[1:4]]
+            elif k and k[0] == "angle":
+                v["angle"] = float(k[1])
+    return v
+
+
+def orbit_path(scene, frames, out):
+    """A slow turn about the view's up axis through 'at': about 1 degree a frame."""
+    v = view_of(scene)
+    f, a, u = v["from"], v["at"], v["up"]
+    n = math.sqrt(sum(x * x for x in u)) or 1
+    u = [x / n for x in u]
+    rel = [f[i] - a[i] for i in range(3)]
+    with open(out, "w") as o:
+        for k in range(frames):
+            t = math.radians(1.0 * k)
+            # Rodrigues rotation of rel about u by t.
+            d = sum(rel[i] * u[i] for i in range(3))
+            cx = [u[1] * rel[2] - u[2] * rel[1], u[2] * rel[0] - u[0] * rel[2], u[0] * rel[1] - u[1] * rel[0]]
+            r = [rel[i] * math.cos(t) + cx[i] * math.sin(t) + u[i] * d * (1 - math.cos(t)) for i in range(3)]
+            p = [a[i] + r[i] for i in range(3)]
+            o.write("%g %g %g  %g %g %g  %g %g %g  %g\n" % (*p, *a, *u, v["angle"]))

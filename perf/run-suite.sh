@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# The whole benchmark suite (issue 7), one command on a fresh machine:
+#   perf/run-suite.sh [--quick]
+# Installs what is missing and builds (tools/setup.sh), then runs every benchmark into
+# perf/results/ (ignored by git): speed against accuracy with the baselines, the walkthrough
+# (Table 1 and Figure 12), still-frame interpolation, thread scaling on this machine's cores,
+# the Tachyon comparison and the micro-benchmarks; each writes its Markdown, raw JSON/CSV
+# and PNG charts, and perf/results/report.md gathers them with the machine's topology.
+# About 40 minutes on a 2-core machine; --quick (smaller frames, fewer settings) about 8.
+# Do not run it beside a build or the tests: the ratios are side by side, but the noise is not.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+quick=0
+[ "${1:-}" = "--quick" ] && quick=1
+tools/setup.sh
+cmake --build build -j"$(nproc)" --target epsray_micro >/dev/null
+R=perf/results
+mkdir -p "$R"
+exe=build/epsray
+log() { printf '\n== %s (%s)\n' "$1" "$(date +%H:%M:%S)"; }
+
+if ((quick)); then
+  acc=(--frames 8 --size 200x150 --eps 0.01,0.05,0.2 --upsample 2,4 --reuse-age 2,8 --lf-depth 4,5)
+  walk=(--size 400x300) interp=(--size 400x300 --eps 0.05) scale=(--frames 4 --size 320x240)
+  tachyon=(-r 1) micro=(--benchmark_filter=whitted)
+else
+  acc=() walk=() interp=() scale=() tachyon=(-r 3) micro=()
+fi
+
+log "speed against accuracy, with the baselines"
+python3 perf/accuracy/bench.py --exe "$exe" --out "$R/accuracy.md" "${acc[@]}"
+log "walkthrough: Table 1 and Figure 12"
+python3 perf/walk/bench.py --exe "$exe" --out "$R/walk.md" "${walk[@]}"
+log "still frames: interpolation"
+python3 perf/interp/bench.py --exe "$exe" --out "$R/interp.md" "${interp[@]}"
+log "thread scaling on this machine"
+python3 perf/scaling/bench.py --exe "$exe" --out "$R/scaling.md" "${scale[@]}"
+log "Tachyon"
+if command -v tachyon >/dev/null; then
+  perf/tachyon/compare.sh "${tachyon[@]}" -o "$R/tachyon.md" || echo "tachyon comparison failed; the report goes on"
+fi
+log "micro-benchmarks"
+build/perf/epsray_micro --benchmark_out="$R/micro.json" --benchmark_out_format=json "${micro[@]}" >"$R/micro.txt"
+
+# The report: every part's Markdown in one file, charts linked beside their tables.
+{
+  echo "# epsray benchmark report ($(date '+%Y-%m-%d %H:%M'))"
+  echo
+  echo "Made by \`perf/run-suite.sh${1:+ $1}\` at commit $(git rev-parse --short HEAD 2>/dev/null || echo '?')."
+  echo
+  echo '```'
+  "$exe" info
+  echo '```'
+  for part in accuracy walk interp scaling tachyon; do
+    [ -f "$R/$part.md" ] || continue
+    echo
+    sed 's/^# /## /' "$R/$part.md"
+    for png in "$R/$part"*.png; do
+      [ -f "$png" ] || continue
+      grep -q "$(basename "$png")" "$R/$part.md" || printf '\n![%s](%s)\n' "$(basename "$png" .png)" "$(basename "$png")"
+    done
+  done
+  echo
+  echo "## Micro-benchmarks (one thread)"
+  echo
+  echo '```'
+  cat "$R/micro.txt"
+  echo '```'
+} >"$R/report.md"
+log "wrote $R/report.md"
+ls "$R"
