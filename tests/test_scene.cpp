@@ -7,9 +7,11 @@
 
 #include "geom/shape_build.h"
 #include "image/image_io.h"
+#include "scene/camera.h"
 #include "scene/input_error.h"
 #include "scene/nff.h"
 #include "scene/path_file.h"
+#include "shade/whitted.h"
 #include "test_util.h"
 
 namespace epsray {
@@ -621,6 +623,49 @@ TEST_P(SpdParse, CountsMatchTheFile) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Spd, SpdParse, EPSRAY_SMALL_SPD_SCENES, test::spd_param_name);
+
+// --- fuzzing regressions (docs/fuzzing.md) ---------------------------------------------------
+
+// Inputs the fuzz targets failed on (fuzz/fuzz_scene.cpp, fuzz/fuzz_path.cpp): each must be
+// refused with its line, or parse and render to finite radiance.
+std::string fuzz_data(const std::string& name) { return std::string(EPSRAY_TEST_DATA_DIR) + "/fuzz/" + name; }
+
+template <class F>
+void expect_input_error(F parse_file, int line, const std::string& what) {
+  try {
+    parse_file();
+    ADD_FAILURE() << "expected input_error: " << what;
+  } catch (const input_error& e) {
+    EXPECT_EQ(e.line, line) << e.what();
+    EXPECT_NE(e.what_is_wrong.find(what), std::string::npos) << e.what();
+  }
+}
+
+TEST(FuzzRegression, RefusedWithTheirLine) {
+  expect_input_error([] { load_camera_path(fuzz_data("view-too-far.path")); }, 2, "from and at are too far apart");
+  expect_input_error([] { load_camera_path(fuzz_data("up-too-large.path")); }, 2, "up is too large");
+  expect_input_error([] { load_scene(fuzz_data("view-too-far.nff")); }, 2, "viewpoint: from and at are too far apart");
+  expect_input_error([] { load_scene(fuzz_data("radiance-overflow.nff")); }, 9, "light colour must be at most 1000000");
+}
+
+TEST(FuzzRegression, ColourAndFactorBounds) {
+  expect_input_error([] { parse(view7 + "f 1001 1 1 1 0 0 0 1\ns 0 0 0 1\n"); }, 8, "material colour must be at most 1000");
+  expect_input_error([] { parse(view7 + "f 1 1 1 1 1e4 0 0 1\ns 0 0 0 1\n"); }, 8, "Ks must be at most 1000");
+  expect_input_error([] { parse(view7 + "b 0 2e6 0\ns 0 0 0 1\n"); }, 8, "background colour must be at most 1000000");
+  EXPECT_NO_THROW(parse(view7 + "ambient 1e6 0 0\nf 1 1 1 1000 1000 0 1000 1\ns 0 0 0 1\n"));
+}
+
+TEST(FuzzRegression, LargestColoursGiveFiniteRadiance) {
+  world w = make_world(load_scene(fuzz_data("radiance-at-bounds.nff")));
+  const camera cam = make_camera(w.sc.view, 3, 3);
+  trace_state st;
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x) {
+      vec3 c = trace_eye(w, make_ray(cam.origin, eye_direction(cam, float(x), float(y))), st);
+      EXPECT_TRUE(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) << x << "," << y;
+    }
+  EXPECT_GT(st.counts.refract, 0u);  // the glass sphere was hit: every factor entered
+}
 
 }  // namespace
 }  // namespace epsray

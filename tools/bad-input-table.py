@@ -179,6 +179,7 @@ scene("scene syntax", "missing_viewpoint", whole(b"l 1 1 1\ns 0 0 0 1\n"), 2,
 scene("geometry", "up_parallel_to_view", view_with(4, "up 0 0 -3"), 1, "up is zero or parallel to the view direction")
 scene("geometry", "up_zero", view_with(4, "up 0 0 0"), 1, "up is zero or parallel to the view direction")
 scene("geometry", "from_equals_at", view_with(3, "at 0 0 5"), 1, "from and at coincide")
+scene("geometry", "from_and_at_too_far_apart", view_with(3, "at 0 0 -3e38"), 1, "from and at are too far apart")
 # colours and materials
 scene("numbers", "negative_material_colour", with_view(b"f 1 -0.5 1 1 0 0 0 1\ns 0 0 0 1\n"), 8,
       "material colour must be non-negative")
@@ -190,6 +191,9 @@ scene("numbers", "negative_ambient", with_view(b"ambient -1 0 0\ns 0 0 0 1\n"), 
 scene("numbers", "negative_kd", with_view(b"f 1 1 1 -1 0 0 0 1\ns 0 0 0 1\n"), 8, "Kd must be non-negative")
 scene("numbers", "negative_ks", with_view(b"f 1 1 1 1 -0.1 0 0 1\ns 0 0 0 1\n"), 8, "Ks must be non-negative")
 scene("numbers", "negative_t", with_view(b"f 1 1 1 1 0 0 -0.5 1\ns 0 0 0 1\n"), 8, "T must be non-negative")
+scene("numbers", "kd_over_1000", with_view(b"f 1 1 1 1001 0 0 0 1\ns 0 0 0 1\n"), 8, "Kd must be at most 1000")
+scene("numbers", "light_over_1e6", with_view(b"l 1 1 1 2e6 1 1\ns 0 0 0 1\n"), 8,
+      "light colour must be at most 1000000")
 scene("numbers", "transparent_ior_zero", with_view(b"f 1 1 1 1 0 0 0.5 0\ns 0 0 0 1\n"), 8,
       "ior must be positive when T > 0")
 scene("numbers", "transparent_ior_negative", with_view(b"f 1 1 1 1 0 0 0.5 -1.5\ns 0 0 0 1\n"), 8,
@@ -285,6 +289,8 @@ path("angle_negative", b"\n\n0 0 5 0 0 0 0 1 0 -45\n", 3, "angle must be between
 path("angle_too_big", OK + b"0 0 5 0 0 0 0 1 0 270\n", 2, "angle must be between 0 and 180",
      "(ok) ⏎ 0 0 5 0 0 0 0 1 0 270")
 path("from_equals_at", OK + b"1 1 1 1 1 1 0 1 0 45\n", 2, "from and at coincide", "(ok) ⏎ 1 1 1 1 1 1 0 1 0 45")
+path("up_too_large", OK + b"0 0 0  1 1 0  3e38 -3e38 0  45\n", 2, "up is too large",
+     "(ok) ⏎ 0 0 0  1 1 0  3e38 -3e38 0  45")
 path("up_parallel", OK + b"0 0 5 0 0 0 0 0 1 45\n", 2, "up is zero or parallel", "(ok) ⏎ 0 0 5 0 0 0 0 0 1 45")
 path("non_ascii", OK + b"0 0 5 0 0 0 0 1 0 45 \xe2\x80\x94\n", 2, "is not printable ASCII",
      "(ok) ⏎ 0 0 5 0 0 0 0 1 0 45 \\xe2\\x80\\x94")

@@ -3,7 +3,8 @@
 #  - AddressSanitizer + UndefinedBehaviorSanitizer over the whole test suite;
 #  - ThreadSanitizer over the tests that race plain std::threads on epsray's lock-free
 #    structures (linetrees, the unique-ray hash). TBB-driven code is left out: Debian's
-#    oneTBB is not instrumented, so TSan cannot see its synchronisation (tools/tsan.supp).
+#    oneTBB is not instrumented, so TSan cannot see its synchronisation (tools/tsan.supp);
+#  - the libFuzzer targets for a fixed number of runs (tools/run-fuzz.sh, docs/fuzzing.md).
 # Run after tools/setup.sh (which installs the packages).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,3 +23,5 @@ cmake --build build-tsan -j"$jobs" --target test_ray_hash test_interp >/dev/null
 export TSAN_OPTIONS="halt_on_error=1 suppressions=$PWD/tools/tsan.supp"
 build-tsan/tests/test_ray_hash
 build-tsan/tests/test_interp --gtest_filter='InterpConcurrency.*:Linetree.*'
+
+bash tools/run-fuzz.sh

@@ -17,4 +17,21 @@ camera make_camera(const camera_view& v, int width, int height) {
   return c;
 }
 
+namespace {
+bool finite(vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+}  // namespace
+
+const char* view_problem(const camera_view& v) {
+  // Finite coordinates can still overflow: at - from, its length, or the cross product with
+  // a huge up would give NaN axes and so NaN in every eye ray.
+  vec3 w = v.at - v.from;
+  if (!finite(w) || !std::isfinite(glm::length(w))) return "from and at are too far apart";
+  if (glm::length(w) == 0) return "from and at coincide";
+  if (!(glm::length(glm::cross(glm::normalize(w), v.up)) >= 1e-6f))
+    return "up is zero or parallel to the view direction";
+  camera c = make_camera(v, 2, 2);
+  if (!finite(c.r) || !finite(c.u)) return "up is too large";
+  return nullptr;
+}
+
 }  // namespace epsray

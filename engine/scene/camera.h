@@ -13,6 +13,9 @@ struct camera {
 
 camera make_camera(const camera_view& v, int width, int height);
 
+// Why `v` gives no usable camera (null when it does): the scene and path parsers' check.
+const char* view_problem(const camera_view& v);
+
 // Unit direction of the eye ray through pixel (x, y), y = 0 the top row.
 inline vec3 eye_direction(const camera& c, float x, float y) {
   float dx = (x - 0.5f * float(c.width - 1)) * c.step;

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "scene/camera.h"
 #include "scene/line_reader.h"
 
 namespace epsray {
@@ -42,8 +43,19 @@ struct parser {
   }
   const xform& top() const { return stack.back(); }
 
-  void check_colour(const text_line& l, vec3 c, const char* what) const {
+  // Upper bounds keep the radiance finite (docs/fuzzing.md): a pixel multiplies a light by
+  // Kd, C and a checker colour, then by Ks or T at each of 4 bounces. With these bounds one
+  // light contributes below 1e29: it would take billions of lights to reach FLT_MAX.
+  static constexpr float max_intensity = 1e6f;  // light colours, ambient, background
+  static constexpr float max_factor = 1e3f;     // material and checker colours, Kd, Ks, T
+
+  void check_colour(const text_line& l, vec3 c, const char* what, float max = max_intensity) const {
     if (c.x < 0 || c.y < 0 || c.z < 0) fail(l, std::string(what) + " must be non-negative");
+    if (c.x > max || c.y > max || c.z > max) fail(l, std::string(what) + " must be at most " + std::to_string(long(max)));
+  }
+  void check_factor(const text_line& l, float k, const char* what) const {
+    if (k < 0) fail(l, std::string(what) + " must be non-negative");
+    if (k > max_factor) fail(l, std::string(what) + " must be at most " + std::to_string(long(max_factor)));
   }
 
   int material_index() {
@@ -66,15 +78,15 @@ struct parser {
     in.expect_count(l, 8, "material (f)");
     material m = current;
     m.color = vec(l, 1, "material colour");
-    check_colour(l, m.color, "material colour");
+    check_colour(l, m.color, "material colour", max_factor);
     m.kd = num(l, 4, "Kd");
     m.ks = num(l, 5, "Ks");
     m.shine = num(l, 6, "Shine");
     m.t = num(l, 7, "T");
     m.ior = num(l, 8, "ior");
-    if (m.kd < 0) fail(l, "Kd must be non-negative");
-    if (m.ks < 0) fail(l, "Ks must be non-negative");
-    if (m.t < 0) fail(l, "T must be non-negative");
+    check_factor(l, m.kd, "Kd");
+    check_factor(l, m.ks, "Ks");
+    check_factor(l, m.t, "T");
     if (m.t > 0 && m.ior <= 0) fail(l, "ior must be positive when T > 0");
     set_material(m);
   }
@@ -245,8 +257,8 @@ struct parser {
       t.kind = texture_kind::checker;
       t.color_a = vec(l, 2, "checker colour");
       t.color_b = vec(l, 5, "checker colour");
-      check_colour(l, t.color_a, "checker colour");
-      check_colour(l, t.color_b, "checker colour");
+      check_colour(l, t.color_a, "checker colour", max_factor);
+      check_colour(l, t.color_b, "checker colour", max_factor);
       t.scale = {num(l, 8, "texture scale"), num(l, 9, "texture scale")};
     } else if (kind == "image") {
       if (l.words.size() != 5) {
@@ -362,11 +374,7 @@ struct parser {
       if (!saw_res) missing += " resolution";
       in.fail(view_line ? view_line : end, "viewpoint is missing:" + missing);
     }
-    const camera_view& v = s.view;
-    vec3 w = v.at - v.from;
-    if (glm::length(w) == 0) in.fail(view_line, "viewpoint: from and at coincide");
-    if (glm::length(glm::cross(glm::normalize(w), v.up)) < 1e-6f)
-      in.fail(view_line, "viewpoint: up is zero or parallel to the view direction");
+    if (const char* problem = view_problem(s.view)) in.fail(view_line, std::string("viewpoint: ") + problem);
     if (s.materials.empty()) s.materials.push_back(current);
     s.has_view = true;
   }

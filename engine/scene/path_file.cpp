@@ -1,5 +1,6 @@
 #include "scene/path_file.h"
 
+#include "scene/camera.h"
 #include "scene/line_reader.h"
 
 namespace epsray {
@@ -19,10 +20,7 @@ camera_path parse_camera_path(std::string_view text, const std::string& name) {
     v.up = {in.number(l, 6, "up"), in.number(l, 7, "up"), in.number(l, 8, "up")};
     v.angle = in.number(l, 9, "angle");
     if (!(v.angle > 0 && v.angle < 180)) in.fail(l.number, "angle must be between 0 and 180 degrees");
-    vec3 w = v.at - v.from;
-    if (glm::length(w) == 0) in.fail(l.number, "from and at coincide");
-    if (glm::length(glm::cross(glm::normalize(w), v.up)) < 1e-6f)
-      in.fail(l.number, "up is zero or parallel to the view direction");
+    if (const char* problem = view_problem(v)) in.fail(l.number, problem);
     out.frames.push_back(v);
   }
   if (out.frames.empty()) in.fail(in.last_line() ? in.last_line() : 1, "camera path has no frames");
