@@ -27,6 +27,7 @@ struct cli_options {
   std::string png, pfm, stats, out_dir, reasons;
   std::string record, script, screenshot;  // view only
   float min_cell_pixels = 16;
+  float failed_split_pixels = 0;
   bool four_way = true;
   bool pin = false;  // bind worker threads to cores (hwloc)
   double memory_mb = 0;  // linetree memory budget; 0: none

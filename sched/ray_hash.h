@@ -5,7 +5,9 @@
 // depends on which thread won, and no thread ever waits.
 //
 // Open addressing with linear probing; a slot is claimed by one compare-and-swap on its
-// 64-bit tag (the key's hash, never 0) and published by a release store of `ready`.
+// 64-bit tag (the key's hash, never 0) and published by a release store of `ready`. The
+// tags live in an array of their own, so a probe sequence reads a few cache lines of tags,
+// not a cache line per slot (a lookup that misses reads all max_probe of them).
 // Knows nothing of rendering.
 #pragma once
 #include <atomic>
@@ -20,15 +22,19 @@ class insert_only_map {
  public:
   // capacity is rounded up to a power of two; probes stop after `max_probe` slots.
   explicit insert_only_map(std::size_t capacity, int max_probe = 32)
-      : mask_(round_up(capacity) - 1), max_probe_(max_probe), slots_(new slot[mask_ + 1]) {}
+      : mask_(round_up(capacity) - 1), max_probe_(max_probe), tags_(new std::atomic<std::uint64_t>[mask_ + 1]),
+        slots_(new slot[mask_ + 1]) {
+    for (std::size_t i = 0; i <= mask_; ++i) tags_[i].store(0, std::memory_order_relaxed);
+  }
 
   // The published value for key, or null.
   const Value* find(const Key& key) const {
     const std::uint64_t tag = tag_of(key);
     for (int p = 0; p < max_probe_; ++p) {
-      const slot& s = slots_[(tag + std::uint64_t(p)) & mask_];
-      std::uint64_t t = s.tag.load(std::memory_order_acquire);
+      const std::size_t i = (tag + std::uint64_t(p)) & mask_;
+      std::uint64_t t = tags_[i].load(std::memory_order_acquire);
       if (t == 0) return nullptr;
+      const slot& s = slots_[i];
       if (t == tag && s.ready.load(std::memory_order_acquire) && s.key == key) return &s.value;
     }
     return nullptr;
@@ -39,9 +45,10 @@ class insert_only_map {
   const Value* insert(const Key& key, const Value& value) {
     const std::uint64_t tag = tag_of(key);
     for (int p = 0; p < max_probe_; ++p) {
-      slot& s = slots_[(tag + std::uint64_t(p)) & mask_];
-      std::uint64_t t = s.tag.load(std::memory_order_acquire);
-      if (t == 0 && s.tag.compare_exchange_strong(t, tag, std::memory_order_acq_rel)) {
+      const std::size_t i = (tag + std::uint64_t(p)) & mask_;
+      slot& s = slots_[i];
+      std::uint64_t t = tags_[i].load(std::memory_order_acquire);
+      if (t == 0 && tags_[i].compare_exchange_strong(t, tag, std::memory_order_acq_rel)) {
         s.key = key;
         s.value = value;
         s.ready.store(1, std::memory_order_release);
@@ -59,7 +66,7 @@ class insert_only_map {
   // Forgets every entry. Not concurrent: only while no thread uses the map.
   void clear() {
     for (std::size_t i = 0; i <= mask_; ++i) {
-      slots_[i].tag.store(0, std::memory_order_relaxed);
+      tags_[i].store(0, std::memory_order_relaxed);
       slots_[i].ready.store(0, std::memory_order_relaxed);
     }
     size_.store(0, std::memory_order_relaxed);
@@ -67,7 +74,7 @@ class insert_only_map {
 
   std::size_t size() const { return size_.load(std::memory_order_relaxed); }
   std::size_t capacity() const { return mask_ + 1; }
-  std::size_t bytes() const { return capacity() * sizeof(slot); }
+  std::size_t bytes() const { return capacity() * (sizeof(slot) + sizeof(std::uint64_t)); }
 
   // Every published value, for owners that must free what the values point to.
   template <class F>
@@ -78,7 +85,6 @@ class insert_only_map {
 
  private:
   struct slot {
-    std::atomic<std::uint64_t> tag{0};
     std::atomic<std::uint8_t> ready{0};
     Key key{};
     Value value{};
@@ -94,6 +100,7 @@ class insert_only_map {
   }
   std::size_t mask_;
   int max_probe_;
+  std::unique_ptr<std::atomic<std::uint64_t>[]> tags_;
   std::unique_ptr<slot[]> slots_;
   std::atomic<std::size_t> size_{0};
 };

@@ -73,6 +73,9 @@ walk_result walk_full(const world& w, const std::vector<camera_view>& views, int
     }
     if (k > 0) out.fast += fr.pixels.fast;
     out.max_linetree_bytes = std::max(out.max_linetree_bytes, trees.bytes());
+    // The running count of bytes published and freed equals a walk over every tree, also
+    // after evictions and with threads racing to publish.
+    EXPECT_EQ(trees.bytes(), trees.measured_bytes()) << "frame " << k;
     out.frames.push_back(std::move(fr.img));
   }
   return out;

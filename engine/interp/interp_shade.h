@@ -16,6 +16,7 @@ namespace epsray {
 struct interp_params {
   float eps = 0.05f;
   float min_cell_pixels = 16;  // no subdivision into children covering fewer pixels
+  float failed_split_pixels = 0;  // ... nor, after a discontinuity or a miss, fewer than these
   float max_cell_pixels = 4096;  // larger cells are subdivided without building an interpolant
   int max_depth = 16;          // halvings of any axis below the root (floats keep ~7 digits)
   bool four_way = true;        // halve only the axes the failure points at (section 8.6)

@@ -23,7 +23,7 @@ const interpolant* failure_record(cell_reason r, std::uint8_t split) {
   return &records[size_t(r)][split & 15u];
 }
 
-lt_node* subdivide(lt_node& n, std::uint8_t axes) {
+lt_node* subdivide(lt_node& n, std::uint8_t axes, std::atomic<std::size_t>* bytes) {
   lt_node* kids = n.kids.load(std::memory_order_acquire);
   if (kids) return kids;
   const int count = child_count(axes);
@@ -41,17 +41,23 @@ lt_node* subdivide(lt_node& n, std::uint8_t axes) {
     }
     made[k].parent_axes = axes;
   }
-  if (n.kids.compare_exchange_strong(kids, made, std::memory_order_acq_rel)) return made;
+  if (n.kids.compare_exchange_strong(kids, made, std::memory_order_acq_rel)) {
+    if (bytes) bytes->fetch_add(size_t(count) * sizeof(lt_node), std::memory_order_relaxed);
+    return made;
+  }
   delete[] made;  // lost the race: the winner's children are identical
   return kids;
 }
 
-const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made) {
+const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::atomic<std::size_t>* bytes) {
   interpolant* mine = made->reason == cell_reason::valid ? made.get()
                                                           : const_cast<interpolant*>(failure_record(made->reason, made->split));
   interpolant* expected = nullptr;
   if (!n.interp.compare_exchange_strong(expected, mine, std::memory_order_acq_rel)) return expected;
-  if (mine == made.get()) made.release();
+  if (mine == made.get()) {
+    made.release();
+    if (bytes) bytes->fetch_add(sizeof(interpolant), std::memory_order_relaxed);
+  }
   return mine;
 }
 
@@ -83,12 +89,20 @@ linetree& linetree_set::get(int prim, int fi) {
   auto* made = new linetree;
   made->fp = make_facepair(bounds_[size_t(prim)], fi);
   for (int i = 0; i < 4; ++i) made->root.lo[i] = made->fp.lo[i], made->root.hi[i] = made->fp.hi[i];
-  if (slot.compare_exchange_strong(t, made, std::memory_order_acq_rel)) return *made;
+  if (slot.compare_exchange_strong(t, made, std::memory_order_acq_rel)) {
+    node_bytes_.fetch_add(sizeof(linetree), std::memory_order_relaxed);
+    return *made;
+  }
   delete made;
   return *t;
 }
 
 size_t linetree_set::bytes() const {
+  return count_ * sizeof(std::array<std::atomic<linetree*>, 6>) + samples_.bytes() +
+         node_bytes_.load(std::memory_order_relaxed);
+}
+
+size_t linetree_set::measured_bytes() const {
   size_t total = count_ * sizeof(std::array<std::atomic<linetree*>, 6>) + samples_.bytes();
   std::function<size_t(const lt_node&)> walk = [&](const lt_node& n) -> size_t {
     const interpolant* ip = n.interp.load(std::memory_order_acquire);
@@ -107,6 +121,7 @@ size_t linetree_set::bytes() const {
 }
 
 size_t linetree_set::evict() {
+  if (samples_.crowded()) samples_.clear();  // a cache of lines from frames ago, mostly
   if (budget_ == 0) return 0;
   size_t total = bytes();
   if (total <= budget_) return total;
@@ -161,6 +176,7 @@ size_t linetree_set::evict() {
     if (total <= budget_) break;
     delete[] u.node->kids.exchange(nullptr, std::memory_order_relaxed);
     total -= u.bytes;
+    node_bytes_.fetch_sub(u.bytes, std::memory_order_relaxed);
   }
   return total;
 }

@@ -70,9 +70,11 @@ inline lt_node* child_at(const lt_node& n, lt_node* kids, const float x[4]) {
 
 // Creates the children of n halving `axes` unless another thread already made children
 // (a pure function of the cell, so the same ones); returns the published children.
-lt_node* subdivide(lt_node& n, std::uint8_t axes = split_all);
-// Publishes `made` as n's interpolant unless another thread did first; returns the winner.
-const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made);
+// The winner adds the children's bytes to *bytes when given (linetree_set::node_bytes).
+lt_node* subdivide(lt_node& n, std::uint8_t axes = split_all, std::atomic<std::size_t>* bytes = nullptr);
+// Publishes `made` as n's interpolant unless another thread did first; returns the winner,
+// whose bytes (a valid interpolant's; failures share records) go to *bytes when given.
+const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::atomic<std::size_t>* bytes = nullptr);
 
 // The linetrees of every primitive, six facepairs each, created on first use.
 class linetree_set {
@@ -81,13 +83,19 @@ class linetree_set {
   explicit linetree_set(const std::vector<bounds>& prim_bounds, size_t memory_budget = 0);
   ~linetree_set();
   linetree& get(int prim, int facepair_index);
-  size_t bytes() const;  // nodes, interpolants and the caches
+  // Nodes, interpolants and the caches: kept by counting what is published and freed, so
+  // the stats of every frame need not walk the trees.
+  size_t bytes() const;
+  size_t measured_bytes() const;  // the same, by walking every tree (tests)
+  // Where subdivide and publish count the bytes they add to this set's trees.
+  std::atomic<size_t>* node_bytes() { return &node_bytes_; }
   size_t memory_budget() const { return budget_; }
 
   // Frames number lookups (lt_node::used); a frame starts with next_frame().
   std::uint32_t frame() const { return frame_; }
   void next_frame() { ++frame_; }
-  // Between frames, when over the memory budget: forgets the shared samples and ray trees,
+  // Between frames: forgets the shared samples and ray trees when their tables are crowded.
+  // When over the memory budget: forgets the shared samples and ray trees,
   // then frees the subtrees no lookup reached this frame, least recently used first (ties
   // in a fixed order), until under budget. Cells used this frame are kept, so the budget
   // is exceeded only by one frame's working set. Not concurrent. Returns the bytes after
@@ -103,6 +111,7 @@ class linetree_set {
   std::unique_ptr<std::array<std::atomic<linetree*>, 6>[]> trees_;
   size_t count_;
   sample_cache samples_;
+  std::atomic<size_t> node_bytes_{0};  // linetrees, nodes and interpolants
 };
 
 }  // namespace epsray

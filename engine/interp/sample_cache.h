@@ -58,6 +58,8 @@ class tree_cache {
   // (a hash shared with another topology, or a full table): the caller keeps its own.
   const ray_tree* canonical(const ray_tree& t);
   std::size_t bytes() const;
+  std::size_t size() const { return map_.size(); }
+  std::size_t capacity() const { return map_.capacity(); }
   void clear();  // frees every tree; not concurrent
 
  private:
@@ -72,6 +74,10 @@ struct sample_cache {
   std::size_t bytes() const { return lines.bytes() + trees.bytes(); }
   // Forgets every sample and tree (line samples point at the trees). Not concurrent.
   void clear() { lines.clear(), trees.clear(); }
+  // Over half full, a table's probes mostly run to their limit and new entries no longer
+  // fit: time to start over (values are pure functions of their keys, so forgetting them
+  // costs only sharing, never changes an image).
+  bool crowded() const { return lines.size() > lines.capacity() / 2 || trees.size() > trees.capacity() / 2; }
 };
 
 }  // namespace epsray
