@@ -61,7 +61,11 @@ def report(a, info, rows):
                     if (r[0], r[1]) == (name, mode):
                         f.write("%d %.4f\n" % (r[2], r[4]))
                 f.write("\n\n")
-        plots = ", ".join("'%s' index %d with linespoints title '%s %s'" % (dat, i, n, m)
+        # One colour per scene, one point and dash per mode.
+        names = sorted({n for n, _ in series})
+        kinds = {"base": (1, 7), "interp": (3, 4), "full": (2, 5)}
+        plots = ", ".join("'%s' index %d with linespoints lw 2 lc %d dt %d pt %d title '%s %s'" %
+                          (dat, i, names.index(n) + 1, kinds.get(m, (1, 1))[0], kinds.get(m, (1, 1))[1], n, m)
                           for i, (n, m) in enumerate(series))
         script = ("set terminal pngcairo size 800,600; set output '%s'; set xlabel 'threads'; "
                   "set ylabel 'speedup over 1 thread'; set key left top; set grid; "
