@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <functional>
 #include <tuple>
 
@@ -62,10 +63,12 @@ const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::a
 }
 
 namespace {
-// The unique-ray hash takes about a quarter of a memory budget (its slots are ~90 bytes).
+// The unique-ray hash takes at most a quarter of a memory budget (a slot and its tag are
+// 96 bytes): the largest power of two that fits, since the table rounds up.
 std::size_t line_capacity(std::size_t budget) {
   if (budget == 0) return std::size_t(1) << 18;
-  return std::clamp<std::size_t>(budget / 4 / 96, std::size_t(1) << 12, std::size_t(1) << 18);
+  const std::size_t fit = std::clamp<std::size_t>(budget / 4 / 96, std::size_t(1) << 12, std::size_t(1) << 18);
+  return std::bit_floor(fit);
 }
 }  // namespace
 
@@ -124,13 +127,16 @@ size_t linetree_set::evict() {
   if (samples_.crowded()) samples_.clear();  // a cache of lines from frames ago, mostly
   if (budget_ == 0) return 0;
   size_t total = bytes();
-  if (total <= budget_) return total;
+  // Down to 7/8 of the budget: the next frame's new cells then fit under it, unless that
+  // frame's working set alone is larger.
+  const size_t target = budget_ - budget_ / 8;
+  if (total <= target) return total;
   // The caches first: cheap to refill, and what is left is then a deterministic size (the
   // trees a cache holds depend on which thread traced which line first).
   total -= samples_.bytes();
   samples_.clear();
   total += samples_.bytes();
-  if (total <= budget_) return total;
+  if (total <= target) return total;
 
   // The largest subtrees nobody reached this frame, a node's children all together, found
   // in one pass, children before parents: a stale subtree replaces the stale ones found
@@ -173,7 +179,7 @@ size_t linetree_set::evict() {
   };
   std::sort(units.begin(), units.end(), [&](const unit& a, const unit& b) { return key(a) < key(b); });
   for (const unit& u : units) {
-    if (total <= budget_) break;
+    if (total <= target) break;
     delete[] u.node->kids.exchange(nullptr, std::memory_order_relaxed);
     total -= u.bytes;
     node_bytes_.fetch_sub(u.bytes, std::memory_order_relaxed);
