@@ -4,7 +4,7 @@
 # Installs what is missing and builds (tools/setup.sh), then runs every benchmark into
 # perf/results/ (ignored by git): speed against accuracy with the baselines, the walkthrough
 # (Table 1 and Figure 12), still-frame interpolation, thread scaling on this machine's cores,
-# the Tachyon comparison and the micro-benchmarks; each writes its Markdown, raw JSON/CSV
+# the 1000-frame memory-budget walk, the Tachyon comparison and the micro-benchmarks; each writes its Markdown, raw JSON/CSV
 # and PNG charts, and perf/results/report.md gathers them with the machine's topology.
 # About 40 minutes on a 2-core machine; --quick (smaller frames, fewer settings) about 8.
 # Do not run it beside a build or the tests: the ratios are side by side, but the noise is not.
@@ -22,9 +22,10 @@ log() { printf '\n== %s (%s)\n' "$1" "$(date +%H:%M:%S)"; }
 if ((quick)); then
   acc=(--frames 8 --size 200x150 --eps 0.01,0.05,0.2 --upsample 2,4 --reuse-age 2,8 --lf-depth 4,5)
   walk=(--size 400x300) interp=(--size 400x300 --eps 0.05) scale=(--frames 4 --size 320x240)
+  memory=(--frames 100 --size 200x150 --budgets 16)
   tachyon=(-r 1) micro=(--benchmark_filter=whitted)
 else
-  acc=() walk=() interp=() scale=() tachyon=(-r 3) micro=()
+  acc=() walk=() interp=() scale=() memory=() tachyon=(-r 3) micro=()
 fi
 
 log "speed against accuracy, with the baselines"
@@ -35,6 +36,8 @@ log "still frames: interpolation"
 python3 perf/interp/bench.py --exe "$exe" --out "$R/interp.md" "${interp[@]}"
 log "thread scaling on this machine"
 python3 perf/scaling/bench.py --exe "$exe" --out "$R/scaling.md" "${scale[@]}"
+log "memory budget over a long walk"
+python3 perf/memory/bench.py --exe "$exe" --out "$R/memory.md" "${memory[@]}"
 log "Tachyon"
 if command -v tachyon >/dev/null; then
   perf/tachyon/compare.sh "${tachyon[@]}" -o "$R/tachyon.md" || echo "tachyon comparison failed; the report goes on"
@@ -51,7 +54,7 @@ build/perf/epsray_micro --benchmark_out="$R/micro.json" --benchmark_out_format=j
   echo '```'
   "$exe" info
   echo '```'
-  for part in accuracy walk interp scaling tachyon; do
+  for part in accuracy walk interp scaling memory tachyon; do
     [ -f "$R/$part.md" ] || continue
     echo
     sed 's/^# /## /' "$R/$part.md"
