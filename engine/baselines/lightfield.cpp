@@ -7,22 +7,13 @@ namespace epsray {
 pixel_result shade_pixel_lightfield(const interp_frame& f, int depth, int x, int y, trace_state& st,
                                     interp_scratch& scratch) {
   const world& w = *f.w;
-  const camera& cam = *f.cam;
   pixel_result out;
-  ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
-  ++st.counts.eye;
-  hit h;
-  if (!closest_hit(w, r, std::numeric_limits<float>::infinity(), h)) {
-    out.L = w.background;
-    return out;
-  }
-  linetree& lt = f.trees->get(h.prim, facepair_of(r.d));
-  float x4[4];
-  line_coords(lt.fp, r.o, r.d, x4);
-  if (!same_first_hit(w.shapes[size_t(h.prim)], lt.fp, cam.origin) || !holds(lt.root, x4)) {
-    out.L = shade_hit(w, r, h, 1, st);
-    return out;
-  }
+  const pixel_line pl = find_pixel_line(f, x, y, st, out);
+  if (!pl.lt) return out;
+  linetree& lt = *pl.lt;
+  const float* x4 = pl.x4;
+  const ray& r = pl.r;
+  const hit& h = pl.h;
   lt_node* node = &lt.root;
   for (;;) {
     if (lt_node* kids = node->kids.load(std::memory_order_acquire)) {

@@ -246,32 +246,40 @@ glm::vec3 reason_colour(pixel_reason r) {
   return {0, 0, 0};
 }
 
+pixel_line find_pixel_line(const interp_frame& f, int x, int y, trace_state& st, pixel_result& out) {
+  const world& w = *f.w;
+  const camera& cam = *f.cam;
+  pixel_line pl;
+  pl.r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
+  ++st.counts.eye;
+  if (!closest_hit(w, pl.r, std::numeric_limits<float>::infinity(), pl.h)) {
+    out.L = w.background;  // the visibility ray is the whole Whitted computation here
+    return pl;
+  }
+  // --eps 0 is exactly the base tracer; a line whose first hit is not the eye ray's, or
+  // that rounding puts outside the root, is traced.
+  if (f.p.eps > 0) {
+    linetree& lt = f.trees->get(pl.h.prim, facepair_of(pl.r.d));
+    line_coords(lt.fp, pl.r.o, pl.r.d, pl.x4);
+    if (same_first_hit(w.shapes[size_t(pl.h.prim)], lt.fp, cam.origin) && holds(lt.root, pl.x4)) {
+      pl.lt = &lt;
+      return pl;
+    }
+  }
+  out.L = shade_hit(w, pl.r, pl.h, 1, st);
+  return pl;
+}
+
 pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state& st, interp_scratch& scratch) {
   const world& w = *f.w;
   const camera& cam = *f.cam;
   pixel_result out;
-  ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
-  ++st.counts.eye;
-  hit h;
-  if (!closest_hit(w, r, std::numeric_limits<float>::infinity(), h)) {
-    out.L = w.background;  // the visibility ray is the whole Whitted computation here
-    return out;
-  }
-  if (f.p.eps <= 0) {  // --eps 0: exactly the base tracer
-    out.L = shade_hit(w, r, h, 1, st);
-    return out;
-  }
-  linetree& lt = f.trees->get(h.prim, facepair_of(r.d));
-  if (!same_first_hit(w.shapes[size_t(h.prim)], lt.fp, cam.origin)) {
-    out.L = shade_hit(w, r, h, 1, st);
-    return out;
-  }
-  float x4[4];
-  line_coords(lt.fp, r.o, r.d, x4);
-  if (!holds(lt.root, x4)) {  // rounding at the root's edge
-    out.L = shade_hit(w, r, h, 1, st);
-    return out;
-  }
+  const pixel_line pl = find_pixel_line(f, x, y, st, out);
+  if (!pl.lt) return out;
+  linetree& lt = *pl.lt;
+  const ray& r = pl.r;
+  const hit& h = pl.h;
+  const float* x4 = pl.x4;
   lt_node* node = &lt.root;
   if (scratch.hint_tree == &lt && strictly_inside(*scratch.hint, x4)) node = scratch.hint;
   const interpolant* ip = nullptr;

@@ -68,6 +68,18 @@ struct pixel_result {
 
 pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state& st, interp_scratch& scratch);
 
+// The first step of every pixel that may be interpolated: the visibility ray, and the line
+// it lies on in its object's linetree. lt is null when the pixel needs no tree: `out`
+// then holds its radiance (the background, or traced: eps 0, a line whose first hit is not
+// the eye ray's, rounding at the root's edge).
+struct pixel_line {
+  ray r;
+  hit h;
+  linetree* lt = nullptr;
+  float x4[4] = {0, 0, 0, 0};
+};
+pixel_line find_pixel_line(const interp_frame& f, int x, int y, trace_state& st, pixel_result& out);
+
 // Is the proven bound within epsilon for every line of the cell (textured cells: decided
 // per line)?
 bool cell_accurate(const interpolant& ip, float eps);
