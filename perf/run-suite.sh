@@ -6,7 +6,8 @@
 # (Table 1 and Figure 12), still-frame interpolation, thread scaling on this machine's cores,
 # the 1000-frame memory-budget walk, the Tachyon comparison and the micro-benchmarks; each writes its Markdown, raw JSON/CSV
 # and PNG charts, and perf/results/report.md gathers them with the machine's topology.
-# About 40 minutes on a 2-core machine; --quick (smaller frames, fewer settings) about 8.
+# About half an hour on a 2-core machine (the sum of its parts); --quick (smaller frames,
+# fewer settings) took 2 min 12 s.
 # Do not run it beside a build or the tests: the ratios are side by side, but the noise is not.
 set -euo pipefail
 cd "$(dirname "$0")/.."
