@@ -74,10 +74,12 @@ struct sample_cache {
   std::size_t bytes() const { return lines.bytes() + trees.bytes(); }
   // Forgets every sample and tree (line samples point at the trees). Not concurrent.
   void clear() { lines.clear(), trees.clear(); }
-  // Over half full, a table's probes mostly run to their limit and new entries no longer
-  // fit: time to start over (values are pure functions of their keys, so forgetting them
-  // costs only sharing, never changes an image).
-  bool crowded() const { return lines.size() > lines.capacity() / 2 || trees.size() > trees.capacity() / 2; }
+  // Over three quarters full, a table's probes for new keys run long and new entries start
+  // to miss their slots: time to start over (values are pure functions of their keys, so
+  // forgetting them costs only sharing, never changes an image).
+  bool crowded() const {
+    return lines.size() > lines.capacity() / 4 * 3 || trees.size() > trees.capacity() / 4 * 3;
+  }
 };
 
 }  // namespace epsray
