@@ -1,5 +1,20 @@
-"""Helpers shared by the perf scripts: camera paths made from a scene's own view."""
+"""Helpers shared by the perf scripts: running `epsray walk` for its stats, and camera
+paths made from a scene's own view."""
+import json
 import math
+import os
+import subprocess
+import tempfile
+
+
+def run_walk(exe, scene, path, flags):
+    """`epsray walk SCENE --path PATH --quiet FLAGS...`; returns its --stats JSON."""
+    with tempfile.TemporaryDirectory() as d:
+        stats = os.path.join(d, "s.json")
+        subprocess.run([exe, "walk", scene, "--path", path, "--quiet", "--stats", stats] + [str(f) for f in flags],
+                       check=True)
+        with open(stats) as f:
+            return json.load(f)
 
 
 def view_of(scene):

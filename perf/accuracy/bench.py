@@ -34,21 +34,14 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SPD = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd")
 sys.path.insert(0, os.path.join(ROOT, "perf"))
-from common import orbit_path  # noqa: E402  (a slow orbit of a scene's own view)
+from common import orbit_path, run_walk  # noqa: E402
 
 NOMINAL_EPS = 0.05  # the baselines have no epsilon: "over" counts pixels over this one
 
 
 def walk(exe, scene, path, size, threads, mode, eps, extra=()):
-    with tempfile.TemporaryDirectory() as d:
-        stats = os.path.join(d, "s.json")
-        cmd = [exe, "walk", scene, "--path", path, "--mode", mode, "--size", size, "--eps", str(eps), "--quiet",
-               "--threads", str(threads), "--stats", stats] + list(extra)
-        if mode != "base":
-            cmd.append("--verify")
-        subprocess.run(cmd, check=True)
-        with open(stats) as f:
-            return json.load(f)["frames"]
+    flags = ["--mode", mode, "--size", size, "--eps", eps, "--threads", threads] + list(extra)
+    return run_walk(exe, scene, path, flags + (["--verify"] if mode != "base" else []))["frames"]
 
 
 def summary(frames, base_ms):

@@ -13,15 +13,15 @@ once for the cold frame (the interpolate path pays for building and proving cell
 once for the warm ones (a visibility ray, a lookup and the interpolation).
 """
 import argparse
-import json
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "perf"))
+from common import run_walk  # noqa: E402
 SPD = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd")
 DEFAULT_SPD = ["balls-s3", "teapot-s6", "rings-s3", "tetra-s4", "mount-s4"]
 
@@ -39,18 +39,12 @@ def view_line(scene):
 
 def walk(exe, scene, mode, size, threads, eps=None, verify=False, frames=3):
     with tempfile.TemporaryDirectory() as d:
-        stats, path = os.path.join(d, "s.json"), os.path.join(d, "still.path")
+        path = os.path.join(d, "still.path")
         with open(path, "w") as f:
             f.write((view_line(scene) + "\n") * frames)
-        cmd = [exe, "walk", scene, "--path", path, "--mode", mode, "--size", size, "--threads", str(threads),
-               "--quiet", "--stats", stats]
-        if eps is not None:
-            cmd += ["--eps", str(eps)]
-        if verify:
-            cmd += ["--verify"]
-        subprocess.run(cmd, check=True)
-        with open(stats) as f:
-            return json.load(f)
+        flags = ["--mode", mode, "--size", size, "--threads", threads]
+        flags += (["--eps", eps] if eps is not None else []) + (["--verify"] if verify else [])
+        return run_walk(exe, scene, path, flags)
 
 
 def main():

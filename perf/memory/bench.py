@@ -9,7 +9,6 @@ memory and frame time per frame (gnuplot).
                          [--exe build/epsray] [--out perf/results/memory.md]
 """
 import argparse
-import json
 import os
 import shutil
 import statistics
@@ -19,16 +18,13 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "perf"))
+from common import run_walk  # noqa: E402
 
 
 def walk(exe, path, size, eps, mode, budget):
-    with tempfile.TemporaryDirectory() as d:
-        stats = os.path.join(d, "s.json")
-        cmd = [exe, "walk", os.path.join(ROOT, "scenes", "artroom.nff"), "--path", path, "--mode", mode, "--size", size,
-               "--eps", str(eps), "--quiet", "--stats", stats] + (["--memory-mb", str(budget)] if budget else [])
-        subprocess.run(cmd, check=True)
-        with open(stats) as f:
-            return json.load(f)
+    flags = ["--mode", mode, "--size", size, "--eps", eps] + (["--memory-mb", budget] if budget else [])
+    return run_walk(exe, os.path.join(ROOT, "scenes", "artroom.nff"), path, flags)
 
 
 def main():

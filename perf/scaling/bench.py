@@ -24,17 +24,12 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SPD = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd")
 sys.path.insert(0, os.path.join(ROOT, "perf"))
-from common import orbit_path  # noqa: E402
+from common import orbit_path, run_walk  # noqa: E402
 
 
 def walk(exe, scene, path, mode, size, threads, pin, tile_rows=None):
-    with tempfile.TemporaryDirectory() as d:
-        stats = os.path.join(d, "s.json")
-        subprocess.run([exe, "walk", scene, "--path", path, "--mode", mode, "--size", size, "--threads",
-                        str(threads), "--quiet", "--stats", stats] + (["--pin"] if pin else []) +
-                       (["--tile-rows", str(tile_rows)] if tile_rows else []), check=True)
-        with open(stats) as f:
-            return json.load(f)
+    flags = ["--mode", mode, "--size", size, "--threads", threads] + (["--pin"] if pin else [])
+    return run_walk(exe, scene, path, flags + (["--tile-rows", tile_rows] if tile_rows else []))
 
 
 def report(a, info, rows):

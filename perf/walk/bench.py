@@ -13,28 +13,21 @@ walk) the max error and pixels over epsilon.
                        [--exe build/epsray] [--out perf/results/walk.md]
 """
 import argparse
-import json
 import os
 import shutil
 import statistics
 import subprocess
 import sys
-import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "perf"))
+from common import run_walk  # noqa: E402
 
 
 def walk(exe, scene, path, mode, size, threads, eps, verify=False):
-    with tempfile.TemporaryDirectory() as d:
-        stats = os.path.join(d, "s.json")
-        cmd = [exe, "walk", scene, "--path", path, "--mode", mode, "--size", size, "--threads", str(threads),
-               "--eps", str(eps), "--quiet", "--stats", stats]
-        if verify:
-            cmd.append("--verify")
-        subprocess.run(cmd, check=True)
-        with open(stats) as f:
-            return json.load(f)
+    flags = ["--mode", mode, "--size", size, "--threads", threads, "--eps", eps] + (["--verify"] if verify else [])
+    return run_walk(exe, scene, path, flags)
 
 
 def main():
