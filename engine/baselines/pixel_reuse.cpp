@@ -9,7 +9,7 @@ namespace epsray {
 void reuse_pixels::resize(int w, int h) {
   width = w, height = h;
   const size_t n = size_t(w) * size_t(h);
-  point.resize(n), rad.resize(n), age.assign(n, no_point);
+  point.resize(n), rad.resize(n), age.resize(n);  // shade_rows_reuse writes every pixel
 }
 
 void splat_points(const reuse_pixels& last, const camera& cam, int max_age, std::size_t i0, std::size_t i1,
