@@ -107,6 +107,8 @@ cli_options parse_args(const std::vector<std::string>& a) {
     else if (f == "--min-cell-pixels") o.min_cell_pixels = float(to_number("--min-cell-pixels", value(), 0, 1e9));
     else if (f == "--failed-split-pixels")
       o.failed_split_pixels = float(to_number("--failed-split-pixels", value(), 0, 1e9));
+    else if (f == "--defer-pixels")
+      o.defer_pixels = float(to_number("--defer-pixels", value(), 0, 1e9));
     else if (f == "--split") {
       const std::string& v = value();
       if (v != "4" && v != "16") bad("bad --split '" + v + "': expected 4 or 16");

@@ -76,6 +76,7 @@ frame_params make_frame_params(const cli_options& o, linetree_set* trees, reproj
   fp.interp.eps = o.eps;
   fp.interp.min_cell_pixels = o.min_cell_pixels;
   fp.interp.failed_split_pixels = o.failed_split_pixels;
+  fp.interp.defer_pixels = o.defer_pixels;
   fp.interp.four_way = o.four_way;
   fp.trees = trees;
   fp.reproj = reproj;

@@ -86,7 +86,8 @@ int run_render(const cli_options& o) {
     std::printf("frame %.1f ms (total %.1f ms with BVH build); rays: eye %llu reflect %llu refract %llu shadow %llu\n",
                 fr.ms, total_ms, (unsigned long long)fr.rays.eye, (unsigned long long)fr.rays.reflect,
                 (unsigned long long)fr.rays.refract, (unsigned long long)fr.rays.shadow);
-    std::printf("pixels: interp %llu base %llu; memory %.1f MB\n", (unsigned long long)fr.pixels.interp,
+    std::printf("pixels: interp %llu (with per-pixel rays %llu) base %llu; memory %.1f MB\n",
+                (unsigned long long)fr.pixels.interp, (unsigned long long)fr.pixels.deferred,
                 (unsigned long long)fr.pixels.base, double(fr.memory_bytes) / 1e6);
     if (o.verify)
       std::printf("verify: max error %.4g, 99.9%% %.4g, %llu pixels over eps %g\n", vr.max_rel_err, vr.p999_rel_err,

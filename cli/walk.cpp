@@ -98,9 +98,11 @@ int run_walk(const cli_options& o) {
     const double all = double(px.fast + px.interp + px.base);
     std::printf("%s: %d frames at %dx%d, mode %s, eps %g, %d threads\n", o.scene.c_str(), count, width, height,
                 mode_name(o.mode), double(o.eps), threads);
-    std::printf("median frame %.1f ms, total %.1f ms; pixels fast %.1f%% interp %.1f%% base %.1f%%; memory %.1f MB\n",
+    std::printf("median frame %.1f ms, total %.1f ms; pixels fast %.1f%% interp %.1f%% base %.1f%% "
+                "(with per-pixel rays %.1f%%); memory %.1f MB\n",
                 ms.empty() ? 0.0 : ms[ms.size() / 2], rec.total_ms, 100 * double(px.fast) / all,
-                100 * double(px.interp) / all, 100 * double(px.base) / all, double(mem) / 1e6);
+                100 * double(px.interp) / all, 100 * double(px.base) / all, 100 * double(px.deferred) / all,
+                double(mem) / 1e6);
     if (o.verify)
       std::printf("verify: max error %.4g, %llu pixels over eps %g\n", max_err, (unsigned long long)over,
                   double(o.eps));

@@ -70,7 +70,7 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
     for (int x = 0; x < cam.width; ++x) {
       pixel_result r;
       const std::int32_t own = rp ? rp->owner[size_t(y) * size_t(cam.width) + size_t(x)] : -1;
-      if (own >= 0 && fill_pixel(*f.w, cam, (*rp->cells)[size_t(own)], x, y, f.p.eps, r.L)) {
+      if (own >= 0 && fill_pixel(*f.w, cam, (*rp->cells)[size_t(own)], x, y, f.p.eps, st, r.L)) {
         r.path = pixel_path::fast, r.reason = pixel_reason::reprojected, r.cell = (*rp->cells)[size_t(own)];
       } else if (lf_depth >= 0) {
         r = shade_pixel_lightfield(f, lf_depth, x, y, st, scratch);
@@ -80,6 +80,7 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
       out.at(x, y) = r.L;
       if (reasons) reasons->at(x, y) = reason_colour(r.reason);
       if (rp && r.cell.node) note_cell(tot.cells, r.cell);
+      if (r.cell.ip && (r.cell.ip->deferred | r.cell.ip->deferred_rays)) ++tot.pixels.deferred;
       const std::uint64_t c1 = cycle_now();
       switch (r.path) {
         case pixel_path::fast: tot.pixels.fast += 1, tot.ticks_fast += c1 - c0; break;

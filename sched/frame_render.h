@@ -26,8 +26,9 @@ bool parse_mode(const std::string& s, render_mode& out);
 
 struct pixel_counts {
   std::uint64_t fast = 0, interp = 0, base = 0;
+  std::uint64_t deferred = 0;  // of fast and interp: cells that cast some rays per pixel
   pixel_counts& operator+=(const pixel_counts& o) {
-    fast += o.fast, interp += o.interp, base += o.base;
+    fast += o.fast, interp += o.interp, base += o.base, deferred += o.deferred;
     return *this;
   }
 };

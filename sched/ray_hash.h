@@ -74,7 +74,8 @@ class insert_only_map {
 
   std::size_t size() const { return size_.load(std::memory_order_relaxed); }
   std::size_t capacity() const { return mask_ + 1; }
-  std::size_t bytes() const { return capacity() * (sizeof(slot) + sizeof(std::uint64_t)); }
+  std::size_t bytes() const { return capacity() * slot_bytes(); }
+  static constexpr std::size_t slot_bytes() { return sizeof(slot) + sizeof(std::uint64_t); }
 
   // Every published value, for owners that must free what the values point to.
   template <class F>

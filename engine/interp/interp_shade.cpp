@@ -6,6 +6,7 @@
 
 #include "interp/cell_screen.h"
 #include "predicate/error_predicate.h"
+#include "shade/surface.h"
 #include "shade/texture.h"
 
 namespace epsray {
@@ -48,7 +49,7 @@ bool strictly_inside(const lt_node& n, const float x[4]) {
 // it is the visibility ray's business), each looked up in the shared sample cache first and
 // published there after tracing; then the topology test and the predicate.
 std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const facepair& fp, const lt_node& n,
-                                               bool terminal, sample_cache& cache, trace_state& st,
+                                               bool terminal, bool defer, sample_cache& cache, trace_state& st,
                                                interp_scratch& scratch, bool predicate) {
   auto ip = std::make_unique<interpolant>();
   const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
@@ -89,11 +90,14 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     return ip;
   }
   // A cell that cannot be split any further needs no corner pattern: the first two corners
-  // with different topologies reject it, before the rest are shaded (cached corners first).
+  // whose topologies differ beyond what it may defer reject it, before the rest are shaded
+  // (cached corners first).
   const ray_tree* first = nullptr;
+  const size_t nl = w.light_pos.size();
+  std::uint32_t deferred = 0, deferred_rays = 0;
   auto differs = [&](const ray_tree* t) {
     if (!first) first = t;
-    return t != first && !same_topology(*first, *t);
+    return t != first && !same_topology_deferring(*first, *t, nl, defer, &deferred, &deferred_rays);
   };
   if (terminal) {
     for (int k = 0; k < 16; ++k) {
@@ -114,8 +118,10 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     st.tree = &tree;
     line_sample& s = samples[k];
     if (ip->textured) st.root_tex_factor = &s.tex, st.root_uv = &s.uv;
+    st.root_ndl = s.ndl, st.root_spec = s.spec, st.root_rays = s.rays;
     s.rad = shade_hit(w, lines[k], hit{ts[k], prim}, 1, st);
-    st.root_tex_factor = nullptr, st.root_uv = nullptr;
+    st.root_tex_factor = nullptr, st.root_uv = nullptr, st.root_ndl = nullptr, st.root_spec = nullptr;
+    st.root_rays = nullptr;
     if (ip->textured) s.rad -= s.tex * sample_texture(w.sc.textures[size_t(m.texture)], s.uv);
     s.hit = true;
     s.tree = cache.trees.canonical(tree);
@@ -128,19 +134,26 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     }
   }
   st.tree = saved_tree;
-  ip->rad_min = glm::vec3(INFINITY);
-  for (int k = 0; k < 16; ++k) {
-    ip->rad[k] = samples[k].rad, ip->tex[k] = samples[k].tex, ip->uv[k] = samples[k].uv;
-    ip->rad_min = glm::min(ip->rad_min, samples[k].rad);
+  auto corners_to_ip = [&] {
+    ip->rad_min = glm::vec3(INFINITY);
+    for (int k = 0; k < 16; ++k) {
+      ip->rad[k] = samples[k].rad, ip->tex[k] = samples[k].tex;
+      ip->rad_min = glm::min(ip->rad_min, samples[k].rad);
+    }
+  };
+  if (!predicate) {  // the light-field baseline: "valid" with a claimed error of 0
+    corners_to_ip();
+    return ip;
   }
-  if (!predicate) return ip;  // the light-field baseline: "valid" with a claimed error of 0
   // Canonical trees are equal exactly when they are the same object. Corner k's class is
-  // the first corner with its topology.
+  // the first corner with its topology, aside from what may be deferred; what differs is.
   bool differ = false;
+  deferred = 0, deferred_rays = 0;
   for (int k = 0; k < 16; ++k) {
     cls[k] = std::uint8_t(k);
     for (int j = 0; j < k; ++j) {
-      if (cls[j] == j && (trees[j] == trees[k] || same_topology(*trees[j], *trees[k]))) {
+      if (cls[j] == j && (trees[j] == trees[k] || same_topology_deferring(*trees[j], *trees[k], nl, defer,
+                                                                          &deferred, &deferred_rays))) {
         cls[k] = std::uint8_t(j);
         break;
       }
@@ -153,9 +166,27 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
   }
   cell_query q;
   q.w = &w, q.prim = prim, q.fp = &fp, q.lo = n.lo, q.hi = n.hi, q.tree = trees[0], q.textured = ip->textured;
+  q.deferred = deferred, q.deferred_rays = deferred_rays, q.allow_defer = defer;
   cell_bound b = bound_cell(q);
-  ip->reason = b.reason, ip->err = b.err, ip->err_tex = b.err_tex, ip->err_uv = b.err_uv, ip->hit_box = b.hit_box;
+  ip->reason = b.reason, ip->err = b.err, ip->err_tex = b.err_tex, ip->hit_box = b.hit_box;
   ip->split = b.reason == cell_reason::valid || b.reason == cell_reason::nonlinear ? b.split : axes_by_extent(n);
+  ip->deferred = std::uint8_t(b.deferred), ip->deferred_rays = std::uint8_t(b.deferred_rays);
+  // The corners without the deferred terms (what the bound is for): the same sums
+  // shade_hit adds, taken out again.
+  for (int k = 0; k < 16; ++k)
+    for (int i = 0; i < 2; ++i)
+      if (ip->deferred_rays >> i & 1) samples[k].rad -= samples[k].rays[i];
+  for (size_t j = 0; j < size_t(max_deferred_lights) && j < w.light_pos.size(); ++j) {
+    if (!(ip->deferred >> j & 1)) continue;
+    const glm::vec3 diffuse = w.light_power[j] * (m.kd * m.color), specular = w.light_power[j] * m.ks;
+    for (int k = 0; k < 16; ++k) {
+      line_sample& s = samples[k];
+      if (ip->textured) s.tex -= diffuse * s.ndl[j];
+      else s.rad -= diffuse * s.ndl[j];
+      s.rad -= specular * s.spec[j];
+    }
+  }
+  corners_to_ip();
   return ip;
 }
 
@@ -178,27 +209,6 @@ bool within(glm::vec3 La, glm::vec3 E, float eps) {
     if (!(e <= eps * std::max(La[c] - e, floor_radiance))) return false;
   }
   return true;
-}
-
-// Interpolated radiance of a textured cell, or false when the texture error cannot be
-// bounded within epsilon at this point (a checker edge inside the uv error box).
-bool textured_radiance(const world& w, int prim, const interpolant& ip, const float wts[16], float eps,
-                       glm::vec3& La) {
-  const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
-  const texture& tx = w.sc.textures[size_t(m.texture)];
-  glm::vec3 g = interpolate(ip.tex, wts), h = interpolate(ip.rad, wts);
-  glm::vec2 uv = interpolate(ip.uv, wts);
-  glm::vec3 T = sample_texture(tx, uv), ET{0};
-  if (tx.kind == texture_kind::checker) {
-    glm::vec2 lo = (uv - ip.err_uv) / tx.scale, hi = (uv + ip.err_uv) / tx.scale;
-    if (std::floor(2 * lo.x) != std::floor(2 * hi.x) || std::floor(2 * lo.y) != std::floor(2 * hi.y)) return false;
-  } else {
-    ET = tx.max_step * (ip.err_uv.x * float(tx.width) / tx.scale.x + ip.err_uv.y * float(tx.height) / tx.scale.y);
-  }
-  La = T * g + h;
-  // |T* g* - T g| <= |T* - T| g* + T |g* - g|, with g* <= g + err_tex.
-  glm::vec3 E = ET * (g + ip.err_tex) + T * ip.err_tex + ip.err;
-  return within(La, E, eps);
 }
 
 // Is the eye ray's first hit on the primitive the first hit of its line after the front
@@ -226,11 +236,24 @@ bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye) {
 }
 
 bool interpolate_line(const world& w, int prim, const lt_node& n, const interpolant& ip, const float x4[4], float eps,
-                      glm::vec3& L) {
+                      const ray& r, float t_hit, trace_state& st, glm::vec3& L) {
   float t[4], wts[16];
   for (int i = 0; i < 4; ++i) t[i] = std::clamp((x4[i] - n.lo[i]) / (n.hi[i] - n.lo[i]), 0.0f, 1.0f);
   corner_weights(t, wts);
-  return ip.textured ? textured_radiance(w, prim, ip, wts, eps, L) : within(L = interpolate(ip.rad, wts), ip.err, eps);
+  L = interpolate(ip.rad, wts);
+  glm::vec3 E = ip.err;
+  if (ip.textured) {
+    // The texture is looked up at the pixel's own hit point, exactly as the reference does,
+    // so only the factor it multiplies carries an error: |T g* - T g| <= T err_tex.
+    const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
+    const glm::vec3 T =
+        sample_texture(w.sc.textures[size_t(m.texture)], surface_uv(w, prim, surface_at(w, prim, r, t_hit).p));
+    L += T * interpolate(ip.tex, wts);
+    E += T * ip.err_tex;
+  }
+  // Deferred terms are exact: they add radiance, not error.
+  if (ip.deferred | ip.deferred_rays) L += deferred_terms(w, r, hit{t_hit, prim}, ip.deferred, ip.deferred_rays, st);
+  return within(L, E, eps);
 }
 
 glm::vec3 reason_colour(pixel_reason r) {
@@ -301,7 +324,11 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
     }
     if (!ip) {
       const bool terminal = node->depth >= f.p.max_depth || pixels < 2 * f.p.min_cell_pixels;
-      ip = publish(*node, build_interpolant(w, h.prim, lt.fp, *node, terminal, f.trees->samples(), st, scratch, true),
+      // A shadow or secondary ray per pixel costs more than splitting a large cell, whose
+      // children mostly prove what it could not: only small cells defer.
+      const bool defer = pixels < f.p.defer_pixels;
+      ip = publish(*node,
+                   build_interpolant(w, h.prim, lt.fp, *node, terminal, defer, f.trees->samples(), st, scratch, true),
                    f.trees->node_bytes());
     }
     if (!cell_accurate(*ip, f.p.eps)) {
@@ -321,7 +348,7 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
   mark_used(*node, f.trees->frame());
   if (ip->reason == cell_reason::valid) {
     glm::vec3 La;
-    if (interpolate_line(w, h.prim, *node, *ip, x4, f.p.eps, La)) {
+    if (interpolate_line(w, h.prim, *node, *ip, x4, f.p.eps, r, h.t, st, La)) {
       out.L = La;
       out.path = pixel_path::interp;
       out.reason = pixel_reason::interpolated;

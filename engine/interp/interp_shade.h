@@ -18,6 +18,8 @@ struct interp_params {
   float min_cell_pixels = 16;  // no subdivision into children covering fewer pixels
   float failed_split_pixels = 0;  // ... nor, after a discontinuity or a miss, fewer than these
   float max_cell_pixels = 4096;  // larger cells are subdivided without building an interpolant
+  float defer_pixels = 64;     // cells under these pixels may leave lights and secondary
+                               // rays they cannot prove to per-pixel rays
   int max_depth = 16;          // halvings of any axis below the root (floats keep ~7 digits)
   bool four_way = true;        // halve only the axes the failure points at (section 8.6)
 };
@@ -87,17 +89,21 @@ bool cell_accurate(const interpolant& ip, float eps);
 // (the one the interpolant holds)?
 bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye);
 // The interpolated radiance of the line x4 of cell n, when the bound meets epsilon for it.
+// r is the pixel's eye ray, t_hit where it meets prim: the deferred lights' shadow rays
+// leave from there.
 bool interpolate_line(const world& w, int prim, const lt_node& n, const interpolant& ip, const float x4[4], float eps,
-                      glm::vec3& L);
+                      const ray& r, float t_hit, trace_state& st, glm::vec3& L);
 
 // The interpolant of cell n of prim's facepair fp: its 16 extremal lines traced against the
 // object alone (through the shared sample cache), then the topology test and the error
 // predicate. terminal: n will not be split, so stop at the first two differing corners.
+// With `defer`, the root's lights whose visibility differs or cannot be proven are left
+// to per-pixel shadow rays, and its reflected and transmitted subtrees to per-pixel rays.
 // predicate false (the light-field baseline, engine/baselines): no topology test and no
 // bound; only corners that miss the object still fail the cell.
 std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const facepair& fp, const lt_node& n,
-                                               bool terminal, sample_cache& cache, trace_state& st,
-                                               interp_scratch& scratch, bool predicate);
+                                               bool terminal, bool defer, sample_cache& cache,
+                                               trace_state& st, interp_scratch& scratch, bool predicate);
 
 // The paper's colours for the error-coded image.
 glm::vec3 reason_colour(pixel_reason r);

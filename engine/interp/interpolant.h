@@ -27,13 +27,15 @@ struct interpolant {
   bool shared = false;     // a failure_record: owned by no node
   bool textured = false;
   std::uint8_t split = split_all;  // the axes worth halving when the cell is not accurate
-  glm::vec3 rad[16];       // radiance; textured: the part the texture does not multiply
+  std::uint8_t deferred = 0;  // bit j: light j is shaded per pixel with a shadow ray, not
+                              // interpolated (its visibility changes inside the cell)
+  std::uint8_t deferred_rays = 0;  // deferred_reflect / deferred_refract: traced per pixel
+  glm::vec3 rad[16];       // radiance but the deferred lights'; textured: the part the
+                           // texture does not multiply
   glm::vec3 tex[16];       // textured: the factor the root's texture multiplies
-  glm::vec2 uv[16];        // textured: the root's texture coordinates
   glm::vec3 rad_min{0};    // the smallest corner radiance per channel
   glm::vec3 err{0};        // proven bound of |f - interpolated f| for rad, per channel
   glm::vec3 err_tex{0};    // ... for tex
-  glm::vec2 err_uv{0};     // ... for uv
   bounds hit_box;          // valid cells: where the cell's lines meet the object (reprojection's
                            // occlusion test from a new eye)
 };

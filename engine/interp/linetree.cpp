@@ -63,11 +63,12 @@ const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::a
 }
 
 namespace {
-// The unique-ray hash takes at most a quarter of a memory budget (a slot and its tag are
-// 96 bytes): the largest power of two that fits, since the table rounds up.
+// The unique-ray hash takes at most a quarter of a memory budget: the largest power of two
+// that fits, since the table rounds up.
 std::size_t line_capacity(std::size_t budget) {
   if (budget == 0) return std::size_t(1) << 18;
-  const std::size_t fit = std::clamp<std::size_t>(budget / 4 / 96, std::size_t(1) << 12, std::size_t(1) << 18);
+  const std::size_t slot = decltype(sample_cache::lines)::slot_bytes();
+  const std::size_t fit = std::clamp<std::size_t>(budget / 4 / slot, std::size_t(1) << 12, std::size_t(1) << 18);
   return std::bit_floor(fit);
 }
 }  // namespace

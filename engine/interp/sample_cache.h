@@ -9,6 +9,7 @@
 
 #include "sched/ray_hash.h"
 #include "shade/ray_tree.h"
+#include "shade/whitted.h"
 
 namespace epsray {
 
@@ -39,6 +40,11 @@ struct line_key_hash {
 struct line_sample {
   glm::vec3 rad{0}, tex{0};
   glm::vec2 uv{0};
+  // Per light j < 8 where it reaches the hit: its diffuse cosine and specular power, so an
+  // interpolant can take a light's or a secondary ray's term out (0 where the light does
+  // not reach).
+  float ndl[max_deferred_lights] = {}, spec[max_deferred_lights] = {};
+  glm::vec3 rays[2] = {glm::vec3{0}, glm::vec3{0}};  // the reflected and transmitted terms
   const ray_tree* tree = nullptr;
   bool hit = false;
 };

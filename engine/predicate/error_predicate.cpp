@@ -104,6 +104,9 @@ struct evaluator {
   cell_reason fail = cell_reason::valid;
   double far;  // farther than any scene point from any ray origin we see
   bounds root_hits;  // where the cell's lines meet the object
+  std::uint32_t deferred = 0;  // the root's lights left to per-pixel shadow rays
+  std::uint32_t deferred_rays = 0;  // ... and its subtrees left to per-pixel rays
+  bool allow_defer = false;         // may more lights and subtrees be deferred
 
   bool reject(cell_reason r) {
     if (fail == cell_reason::valid) fail = r;
@@ -111,11 +114,13 @@ struct evaluator {
   }
 
   // No primitive other than skip_a / skip_b may meet a segment from box a to box b.
-  bool shaft_clear(const bounds& a, const bounds& b, int skip_a, int skip_b) {
-    if (!finite_box(a) || !finite_box(b)) return reject(cell_reason::blocked);
+  bool shaft_empty(const bounds& a, const bounds& b, int skip_a, int skip_b) const {
+    if (!finite_box(a) || !finite_box(b)) return false;
     shaft s = make_shaft(a, b);
-    bool hit = for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) { return id != skip_a && id != skip_b; });
-    return hit ? reject(cell_reason::blocked) : true;
+    return !for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) { return id != skip_a && id != skip_b; });
+  }
+  bool shaft_clear(const bounds& a, const bounds& b, int skip_a, int skip_b) {
+    return shaft_empty(a, b, skip_a, skip_b) ? true : reject(cell_reason::blocked);
   }
 
   // The family o + t d hits primitive `prim` at its first surface with t > 0, for every ray
@@ -478,9 +483,9 @@ struct evaluator {
 
   // Radiance of the family of rays o + t d (t > 0) whose ray-tree node is `node`; `from` is
   // the primitive they leave (-1 for the lines of the cell) and whether it may be ignored
-  // in their shaft. Root extras: the texture factor and uv for textured roots.
+  // in their shaft. Root extra: the texture factor of a textured root.
   bool radiance(int node, const jv& o, const jv& d, int depth, int from, bool from_ignorable, djet L[3],
-                djet* tex_factor, djet* uv) {
+                djet* tex_factor) {
     const ray_tree_node& n = tree.nodes[size_t(node)];
     if (n.prim < 0) {  // a miss: nothing may lie anywhere along any ray of the family
       bounds a = box_of(o);
@@ -510,13 +515,8 @@ struct evaluator {
     const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
     const bool split = tex_factor != nullptr;
     if (m.texture >= 0 && !split) return reject(cell_reason::nonlinear);  // textures seen in reflections
-    if (split) {
-      glm::vec3 o3, eu, ev;
-      glm::vec3 pmid{float(mid(sf.p.x.v)), float(mid(sf.p.y.v)), float(mid(sf.p.z.v))};
-      if (!planar_uv_frame(w, prim, pmid, o3, eu, ev)) return reject(cell_reason::nonlinear);
-      jv rel = sf.p - dv(o3);
-      uv[0] = dot(rel, dv(eu)), uv[1] = dot(rel, dv(ev));
-    }
+    // A textured root's texture is looked up per pixel at the pixel's own hit point, so its
+    // uv needs no bound (any primitive, any texture).
     glm::dvec3 kdc = dv(m.kd * m.color);
     djet acc[3], tf[3];
     for (int c = 0; c < 3; ++c) {
@@ -535,26 +535,46 @@ struct evaluator {
     }
     jv view = -d;
     for (size_t j = 0; j < w.light_pos.size(); ++j) {
+      // The eye ray's own lights may be left to per-pixel shadow rays: those the corners
+      // disagree on are, and so is any whose visibility or shading this cell cannot prove.
+      const bool deferrable = from < 0 && allow_defer && j < size_t(max_deferred_lights);
+      if (from < 0 && (deferred >> j & 1)) continue;
+      auto defer_or = [&](cell_reason r) {
+        if (!deferrable) return reject(r);
+        deferred |= 1u << j;
+        return true;
+      };
       std::int32_t status = tree.lights[n.lights + j];
       jv to_light = constant(dv(w.light_pos[j])) - sf.p;
       jv lj = normalize(to_light);
       djet ndl = dot(nf, lj);
       if (status == light_behind) {
-        if (!(hi(ndl.v) <= 0)) return reject(cell_reason::discontinuity);
+        if (!(hi(ndl.v) <= 0) && !defer_or(cell_reason::discontinuity)) return false;
         continue;
       }
       if (status >= 0) {  // blocked at every corner: prove it for every ray
-        if (!blocked_everywhere(w.shape_of[size_t(status)], above_box, w.light_pos[j]))
-          return reject(cell_reason::blocked);
+        if (!blocked_everywhere(w.shape_of[size_t(status)], above_box, w.light_pos[j]) &&
+            !defer_or(cell_reason::blocked))
+          return false;
         continue;
       }
-      if (!positive(ndl)) return reject(cell_reason::discontinuity);
+      if (!positive(ndl)) {
+        if (!defer_or(cell_reason::discontinuity)) return false;
+        continue;
+      }
       bounds lbox{w.light_pos[j], w.light_pos[j]};
-      if (!shaft_clear(above_box, lbox, cannot_reenter(kind, sf.from_outside) ? prim : -1, -1)) return false;
+      const int skip = cannot_reenter(kind, sf.from_outside) ? prim : -1;
+      if (deferrable ? !shaft_empty(above_box, lbox, skip, -1) : !shaft_clear(above_box, lbox, skip, -1)) {
+        if (!defer_or(cell_reason::blocked)) return false;
+        continue;
+      }
       djet spec(0.0);
       if (m.shine > 0 && m.ks > 0) {
         djet nh = dot(nf, normalize(lj + view));
-        if (!positive(nh)) return reject(cell_reason::nonlinear);
+        if (!positive(nh)) {
+          if (!defer_or(cell_reason::nonlinear)) return false;
+          continue;
+        }
         spec = pow(nh, double(m.shine));
       }
       glm::dvec3 I = dv(w.light_power[j]);
@@ -566,37 +586,55 @@ struct evaluator {
       }
     }
     const bool leave_ok = cannot_reenter(kind, sf.from_outside);
+    // The eye ray's reflected and transmitted subtrees may be left to per-pixel rays (where
+    // allowed): those the corners disagree on are, and so is any this cell cannot bound.
+    const bool root = from < 0;
+    auto child_or_defer = [&](std::uint32_t bit, auto&& bound_child) {
+      if (root && (deferred_rays & bit)) return true;
+      if (bound_child()) return true;
+      if (!(root && allow_defer)) return false;
+      fail = cell_reason::valid, deferred_rays |= bit;
+      return true;
+    };
     // Reflected and refracted directions of unit vectors are unit (whitted.md 4); normalizing
     // intervals would only lose that.
     if (n.reflect >= 0) {
-      jv rd = d - nf * (2.0 * dot(d, nf));
-      djet Lr[3];
-      if (!radiance(n.reflect, above, rd, depth + 1, prim, leave_ok, Lr, nullptr, nullptr)) return false;
-      for (int c = 0; c < 3; ++c) acc[c] = acc[c] + Lr[c] * double(m.ks);
+      const bool ok = child_or_defer(deferred_reflect, [&] {
+        jv rd = d - nf * (2.0 * dot(d, nf));
+        djet Lr[3];
+        if (!radiance(n.reflect, above, rd, depth + 1, prim, leave_ok, Lr, nullptr)) return false;
+        for (int c = 0; c < 3; ++c) acc[c] = acc[c] + Lr[c] * double(m.ks);
+        return true;
+      });
+      if (!ok) return false;
     }
     if (n.refract >= 0) {
-      double eta = entering ? 1.0 / double(m.ior) : double(m.ior);
-      djet ci = dot(view, nf);
-      djet k = 1.0 - eta * eta * (1.0 - sqr(ci));
-      djet Lt[3];
-      if (n.tir) {
-        if (!(hi(k.v) < 0)) return reject(cell_reason::discontinuity);
-        jv rd = d - nf * (2.0 * dot(d, nf));
-        if (!radiance(n.refract, above, rd, depth + 1, prim, leave_ok, Lt, nullptr, nullptr)) return false;
-      } else {
-        if (!positive(k)) return reject(cell_reason::discontinuity);
-        jv td = d * eta + nf * (ci * eta - sqrt(k));
-        jv below = sf.p - nf * delta;
-        // A refracted segment passes through a plane; inside a sphere or box it meets the
-        // solid again only at its target, the exit point.
-        const ray_tree_node& child = tree.nodes[size_t(n.refract)];
-        bool planar = kind == shape_kind::triangle || kind == shape_kind::polygon || kind == shape_kind::disk;
-        bool exits_self = child.prim >= 0 && w.shape_of[size_t(child.prim)] == prim &&
-                          (kind == shape_kind::sphere || kind == shape_kind::box);
-        bool through_ok = planar || exits_self;
-        if (!radiance(n.refract, below, td, depth + 1, prim, through_ok, Lt, nullptr, nullptr)) return false;
-      }
-      for (int c = 0; c < 3; ++c) acc[c] = acc[c] + Lt[c] * double(m.t);
+      const bool ok = child_or_defer(deferred_refract, [&] {
+        double eta = entering ? 1.0 / double(m.ior) : double(m.ior);
+        djet ci = dot(view, nf);
+        djet k = 1.0 - eta * eta * (1.0 - sqr(ci));
+        djet Lt[3];
+        if (n.tir) {
+          if (!(hi(k.v) < 0)) return reject(cell_reason::discontinuity);
+          jv rd = d - nf * (2.0 * dot(d, nf));
+          if (!radiance(n.refract, above, rd, depth + 1, prim, leave_ok, Lt, nullptr)) return false;
+        } else {
+          if (!positive(k)) return reject(cell_reason::discontinuity);
+          jv td = d * eta + nf * (ci * eta - sqrt(k));
+          jv below = sf.p - nf * delta;
+          // A refracted segment passes through a plane; inside a sphere or box it meets the
+          // solid again only at its target, the exit point.
+          const ray_tree_node& child = tree.nodes[size_t(n.refract)];
+          bool planar = kind == shape_kind::triangle || kind == shape_kind::polygon || kind == shape_kind::disk;
+          bool exits_self = child.prim >= 0 && w.shape_of[size_t(child.prim)] == prim &&
+                            (kind == shape_kind::sphere || kind == shape_kind::box);
+          bool through_ok = planar || exits_self;
+          if (!radiance(n.refract, below, td, depth + 1, prim, through_ok, Lt, nullptr)) return false;
+        }
+        for (int c = 0; c < 3; ++c) acc[c] = acc[c] + Lt[c] * double(m.t);
+        return true;
+      });
+      if (!ok) return false;
     }
     for (int c = 0; c < 3; ++c) {
       L[c] = acc[c];
@@ -611,7 +649,7 @@ struct evaluator {
 cell_bound bound_cell(const cell_query& q) {
   const world& w = *q.w;
   const facepair& fp = *q.fp;
-  evaluator ev{w, *q.tree, cell_reason::valid, 0, bounds{}};
+  evaluator ev{w, *q.tree, cell_reason::valid, 0, bounds{}, q.deferred, q.deferred_rays, q.allow_defer};
   glm::dvec3 ext = dv(w.box.extent());
   double scene = glm::length(ext);
   // Lines start on the facepair's front plane, within a few object sizes of the scene.
@@ -626,13 +664,15 @@ cell_bound bound_cell(const cell_query& q) {
   p1[fp.axis] = djet(double(fp.back)), p1[fp.u] = c, p1[fp.v] = d;
   jv dir = normalize(p1 - o);
 
-  djet L[3], tf[3], uv[2];
+  djet L[3], tf[3];
   cell_bound out;
-  if (!ev.radiance(0, o, dir, 1, -1, false, L, q.textured ? tf : nullptr, q.textured ? uv : nullptr)) {
+  if (!ev.radiance(0, o, dir, 1, -1, false, L, q.textured ? tf : nullptr)) {
     out.reason = ev.fail == cell_reason::valid ? cell_reason::nonlinear : ev.fail;
     return out;
   }
   out.hit_box = ev.root_hits;
+  out.deferred = ev.deferred;
+  out.deferred_rays = ev.deferred_rays;
   double h[4];
   for (int i = 0; i < 4; ++i) h[i] = double(q.hi[i]) - double(q.lo[i]);
   double axis[4] = {0, 0, 0, 0};
@@ -640,14 +680,11 @@ cell_bound bound_cell(const cell_query& q) {
     out.err[ch] = float(interpolation_error(L[ch], h, axis));
     if (q.textured) out.err_tex[ch] = float(interpolation_error(tf[ch], h, axis));
   }
-  if (q.textured)
-    for (int k = 0; k < 2; ++k) out.err_uv[k] = float(interpolation_error(uv[k], h));
   // The pair whose second-order terms dominate is the one worth halving.
   const double ac = axis[0] + axis[2], bd = axis[1] + axis[3];
   out.split = ac > 3 * bd ? split_ac : (bd > 3 * ac ? split_bd : split_all);
   auto finite3 = [](glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
-  if (!finite3(out.err) || !finite3(out.err_tex) || !std::isfinite(out.err_uv.x) || !std::isfinite(out.err_uv.y))
-    out.reason = cell_reason::nonlinear;
+  if (!finite3(out.err) || !finite3(out.err_tex)) out.reason = cell_reason::nonlinear;
   return out;
 }
 

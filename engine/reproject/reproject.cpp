@@ -3,6 +3,7 @@
 #include <oneapi/tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <limits>
 #include <tuple>
 
 #include "predicate/shaft.h"
@@ -47,10 +48,18 @@ void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std
   }
 }
 
-bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, int x, int y, float eps, glm::vec3& L) {
+bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, int x, int y, float eps, trace_state& st,
+                glm::vec3& L) {
   float x4[4];
   if (!eye_line_in_cell(cam, c, x, y, x4)) return false;
-  return interpolate_line(w, c.prim, *c.node, *c.ip, x4, eps, L);
+  // Textures are looked up, and deferred rays leave, at the pixel's own hit: the trusted
+  // cell's object is the first hit along the eye ray, so the object alone gives the point
+  // closest_hit would.
+  const ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
+  float t = 0;
+  if ((c.ip->textured || c.ip->deferred || c.ip->deferred_rays) && !hit_shape(w.shapes[size_t(c.prim)], w.polys, r, std::numeric_limits<float>::infinity(), t))
+    return false;
+  return interpolate_line(w, c.prim, *c.node, *c.ip, x4, eps, r, t, st, L);
 }
 
 void settle_cells(std::vector<cell_ref>& cells) {

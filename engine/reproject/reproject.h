@@ -37,7 +37,9 @@ void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std
 
 // Span fill of pixel (x, y) from its owner: false when the bound does not meet epsilon for
 // this pixel's line (the pixel then takes the interpolate path).
-bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, int x, int y, float eps, glm::vec3& L);
+// Cells with deferred lights cast their shadow rays from the pixel's hit on the cell's object.
+bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, int x, int y, float eps, trace_state& st,
+                glm::vec3& L);
 
 // The cells a frame used, gathered from its tiles, in a deterministic order (primitive,
 // facepair, ranges) without repeats: the next frame's list.

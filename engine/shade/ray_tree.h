@@ -29,6 +29,14 @@ struct ray_tree {
 };
 
 bool same_topology(const ray_tree& a, const ray_tree& b);
+// Same topology, or, where `defer`, the same but for what an interpolant may leave to
+// per-pixel rays: the eye ray's statuses of its first 8 lights, and its reflected and
+// transmitted subtrees (whether a transmission is a total internal reflection included).
+// The bits of what differs are or-ed into *lights (bit j: light j) and *rays
+// (deferred_reflect = 1, deferred_refract = 2). nlights: the scene's lights (each hit
+// records that many).
+bool same_topology_deferring(const ray_tree& a, const ray_tree& b, std::size_t nlights, bool defer,
+                             std::uint32_t* lights, std::uint32_t* rays);
 std::uint64_t topology_hash(const ray_tree& t);
 
 }  // namespace epsray

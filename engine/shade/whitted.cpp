@@ -25,6 +25,61 @@ int shadow_blocker(const world& w, const ray& r, float dist, size_t light, trace
   return b;
 }
 
+// Light j at a surface point: whether it reaches the point (lit, behind the surface or
+// the blocker's scene index) and, when lit, the diffuse cosine and the specular power.
+// One routine for shade_hit and direct_light, so a per-pixel shadow ray is the reference's.
+struct light_term {
+  std::int32_t status = light_behind;
+  float ndl = 0, spec = 0;
+};
+
+inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above, vec3 nf, vec3 v, size_t j,
+                           trace_state& st) {
+  light_term out;
+  const vec3 lj = glm::normalize(w.light_pos[j] - p);
+  out.ndl = glm::dot(nf, lj);
+  if (!(out.ndl > 0)) return out;
+  ++st.counts.shadow;
+  vec3 so = w.light_pos[j] - above;
+  float dist = glm::length(so);
+  int blocker = dist > 0 ? shadow_blocker(w, make_ray(above, so / dist), dist, j, st) : -1;
+  out.status = blocker >= 0 ? w.info[size_t(blocker)].source : light_lit;
+  if (blocker < 0 && m.shine > 0) {
+    vec3 hj = glm::normalize(lj + v);
+    out.spec = std::pow(std::max(0.0f, glm::dot(nf, hj)), m.shine);
+  }
+  return out;
+}
+
+// The reflected and transmitted terms of shade_hit (ks Lr, t Lt), shared with
+// deferred_terms so a per-pixel secondary ray is the reference's.
+inline vec3 reflected_term(const world& w, const material& m, const ray& r, vec3 p, vec3 nf, int depth,
+                           trace_state& st) {
+  ++st.counts.reflect;
+  return m.ks * radiance(w, make_ray(p + w.delta * nf, reflect_dir(r.d, nf)), depth + 1, st);
+}
+
+inline float refraction_k(const material& m, const ray& r, vec3 nf, bool entering, float& eta, float& ci) {
+  eta = entering ? 1 / m.ior : m.ior;
+  ci = glm::dot(-r.d, nf);
+  return 1 - eta * eta * (1 - ci * ci);
+}
+
+inline bool total_internal(const material& m, const ray& r, vec3 nf, bool entering) {
+  float eta, ci;
+  return refraction_k(m, r, nf, entering, eta, ci) < 0;
+}
+
+inline vec3 transmitted_term(const world& w, const material& m, const ray& r, vec3 p, vec3 nf, bool entering,
+                             int depth, trace_state& st) {
+  ++st.counts.refract;
+  float eta, ci;
+  const float k = refraction_k(m, r, nf, entering, eta, ci);
+  if (k < 0) return m.t * radiance(w, make_ray(p + w.delta * nf, reflect_dir(r.d, nf)), depth + 1, st);
+  vec3 td = glm::normalize(eta * r.d + (eta * ci - std::sqrt(k)) * nf);
+  return m.t * radiance(w, make_ray(p - w.delta * nf, td), depth + 1, st);
+}
+
 }  // namespace
 
 vec3 radiance(const world& w, const ray& r, int depth, trace_state& st) {
@@ -69,53 +124,61 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
   vec3 L = w.ambient * kd_c;
   const vec3 above = sf.p + w.delta * nf;
   const size_t nl = w.light_pos.size();
+  const bool record = depth == 1 && st.root_ndl;
   for (size_t j = 0; j < nl; ++j) {
-    const vec3 to_light = w.light_pos[j] - sf.p;
-    const vec3 lj = glm::normalize(to_light);
-    const float ndl = glm::dot(nf, lj);
-    std::int32_t status = light_behind;
-    if (ndl > 0) {
-      ++st.counts.shadow;
-      vec3 so = w.light_pos[j] - above;
-      float dist = glm::length(so);
-      int blocker = dist > 0 ? shadow_blocker(w, make_ray(above, so / dist), dist, j, st) : -1;
-      status = blocker >= 0 ? w.info[size_t(blocker)].source : light_lit;
-      if (blocker < 0) {
-        float spec = 0;
-        if (m.shine > 0) {
-          vec3 hj = glm::normalize(lj + v);
-          spec = std::pow(std::max(0.0f, glm::dot(nf, hj)), m.shine);
-        }
-        L += w.light_power[j] * (kd_c * ndl + m.ks * spec);
-        if (split) tex_factor += w.light_power[j] * (m.kd * m.color * ndl);
-      }
+    const light_term lt = light_at(w, m, sf.p, above, nf, v, j, st);
+    if (lt.status == light_lit) {
+      L += w.light_power[j] * (kd_c * lt.ndl + m.ks * lt.spec);
+      if (split) tex_factor += w.light_power[j] * (m.kd * m.color * lt.ndl);
     }
-    if (tree) tree->lights.push_back(status);
+    if (record && j < size_t(max_deferred_lights)) {
+      const bool lit = lt.status == light_lit;
+      st.root_ndl[j] = lit ? lt.ndl : 0, st.root_spec[j] = lit ? lt.spec : 0;
+    }
+    if (tree) tree->lights.push_back(lt.status);
   }
   if (split) *st.root_tex_factor = tex_factor;
 
+  if (depth == 1 && st.root_rays) st.root_rays[0] = st.root_rays[1] = vec3{0};
   if (depth < max_depth && m.ks > 0) {
-    ++st.counts.reflect;
     if (tree) tree->nodes[size_t(node)].reflect = std::int16_t(tree->nodes.size());
-    L += m.ks * radiance(w, make_ray(above, reflect_dir(r.d, nf)), depth + 1, st);
+    const vec3 Lr = reflected_term(w, m, r, sf.p, nf, depth, st);
+    if (depth == 1 && st.root_rays) st.root_rays[0] = Lr;
+    L += Lr;
   }
   if (depth < max_depth && m.t > 0) {
-    ++st.counts.refract;
-    const float eta = entering ? 1 / m.ior : m.ior;
-    const float ci = glm::dot(v, nf);
-    const float k = 1 - eta * eta * (1 - ci * ci);
     if (tree) {
       ray_tree_node& n = tree->nodes[size_t(node)];
       n.refract = std::int16_t(tree->nodes.size());
-      n.tir = k < 0;
+      n.tir = total_internal(m, r, nf, entering);
     }
-    if (k < 0) {
-      L += m.t * radiance(w, make_ray(above, reflect_dir(r.d, nf)), depth + 1, st);
-    } else {
-      vec3 td = glm::normalize(eta * r.d + (eta * ci - std::sqrt(k)) * nf);
-      L += m.t * radiance(w, make_ray(sf.p - w.delta * nf, td), depth + 1, st);
+    const vec3 Lt = transmitted_term(w, m, r, sf.p, nf, entering, depth, st);
+    if (depth == 1 && st.root_rays) st.root_rays[1] = Lt;
+    L += Lt;
+  }
+  return L;
+}
+
+vec3 deferred_terms(const world& w, const ray& r, const hit& h, std::uint32_t lights, std::uint32_t rays,
+                    trace_state& st) {
+  const surface sf = surface_at(w, h.prim, r, h.t);
+  const material& m = w.sc.materials[size_t(w.info[size_t(h.prim)].material)];
+  const bool entering = glm::dot(sf.ng, r.d) < 0;
+  const vec3 nf = entering ? sf.ns : -sf.ns;
+  vec3 L{0};
+  if (lights) {
+    vec3 colour = m.color;
+    if (m.texture >= 0) colour *= sample_texture(w.sc.textures[size_t(m.texture)], surface_uv(w, h.prim, sf.p));
+    const vec3 kd_c = m.kd * colour;
+    const vec3 above = sf.p + w.delta * nf;
+    for (size_t j = 0; j < w.light_pos.size() && j < size_t(max_deferred_lights); ++j) {
+      if (!(lights >> j & 1)) continue;
+      const light_term lt = light_at(w, m, sf.p, above, nf, -r.d, j, st);
+      if (lt.status == light_lit) L += w.light_power[j] * (kd_c * lt.ndl + m.ks * lt.spec);
     }
   }
+  if ((rays & deferred_reflect) && m.ks > 0) L += reflected_term(w, m, r, sf.p, nf, 1, st);
+  if ((rays & deferred_refract) && m.t > 0) L += transmitted_term(w, m, r, sf.p, nf, entering, 1, st);
   return L;
 }
 

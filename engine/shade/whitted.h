@@ -35,7 +35,22 @@ struct trace_state {
   // interpolant can keep texture lookups out of the interpolated terms.
   vec3* root_tex_factor = nullptr;
   vec2* root_uv = nullptr;
+  // When set, shading at depth 1 stores per light j < max_deferred_lights its diffuse
+  // cosine and specular power where the light reaches the point (0 elsewhere): an
+  // interpolant that leaves light j to per-pixel shadow rays subtracts its term from the
+  // corners (engine/interp).
+  float* root_ndl = nullptr;
+  float* root_spec = nullptr;
+  // When set, shading at depth 1 stores its reflected and transmitted terms (ks Lr, t Lt;
+  // 0 when not traced), which an interpolant may leave to per-pixel rays.
+  vec3* root_rays = nullptr;
 };
+
+// Secondary rays of an eye ray's hit that a cell may leave to per-pixel tracing.
+enum : std::uint32_t { deferred_reflect = 1, deferred_refract = 2 };
+
+// Lights a cell may leave to per-pixel shadow rays: the first 8, one bit each.
+constexpr int max_deferred_lights = 8;
 
 // Radiance along an eye ray (depth 1); records the ray tree into state.tree when set.
 vec3 trace_eye(const world& w, const ray& r, trace_state& state);
@@ -47,5 +62,12 @@ vec3 radiance(const world& w, const ray& r, int depth, trace_state& state);
 // line's hit on one object); records the ray tree from this node on when state.tree is set
 // (the caller clears it).
 vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_state& state);
+
+// The terms of an eye ray's hit that an interpolant left to per-pixel rays, computed
+// exactly as shade_hit computes them at depth 1: the direct terms of the lights in
+// `lights` (bit j: light j), shadow rays included, and the reflected / transmitted terms
+// named in `rays` (deferred_reflect, deferred_refract), traced.
+vec3 deferred_terms(const world& w, const ray& r, const hit& h, std::uint32_t lights, std::uint32_t rays,
+                    trace_state& state);
 
 }  // namespace epsray
