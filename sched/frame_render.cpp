@@ -52,6 +52,7 @@ struct tile_totals {
 struct reprojection_frame {
   const std::vector<cell_ref>* cells = nullptr;
   const std::int32_t* owner = nullptr;  // per pixel, -1: none
+  const std::vector<cell_trust>* trust = nullptr;  // per cell
 };
 
 void note_cell(std::vector<cell_ref>& cells, const cell_ref& c) {
@@ -70,7 +71,8 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
     for (int x = 0; x < cam.width; ++x) {
       pixel_result r;
       const std::int32_t own = rp ? rp->owner[size_t(y) * size_t(cam.width) + size_t(x)] : -1;
-      if (own >= 0 && fill_pixel(*f.w, cam, (*rp->cells)[size_t(own)], x, y, f.p.eps, st, r.L)) {
+      if (own >= 0 && fill_pixel(*f.w, cam, (*rp->cells)[size_t(own)], (*rp->trust)[size_t(own)], x, y, f.p.eps, st,
+                                 r.L)) {
         r.path = pixel_path::fast, r.reason = pixel_reason::reprojected, r.cell = (*rp->cells)[size_t(own)];
       } else if (lf_depth >= 0) {
         r = shade_pixel_lightfield(f, lf_depth, x, y, st, scratch);
@@ -114,25 +116,27 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   // Full: last frame's cells from the new eye (each checked once, in parallel), then each
   // tile's pixels take the first containing trusted cell.
   std::vector<std::int32_t, no_init_allocator<std::int32_t>> owner;  // splat_rows fills each tile's rows
+  std::vector<cell_trust> trusted;
   reprojection_frame rp;
   if (p.mode == render_mode::full) {
     const auto r0 = std::chrono::steady_clock::now();
     const std::vector<cell_ref>& cells = p.reproj->cells;
-    std::vector<std::uint8_t> trusted(cells.size());
+    trusted.resize(cells.size());
     std::vector<pixel_rect> rects(cells.size());
     owner.resize(size_t(cam.width) * size_t(cam.height));
     pool.run([&] {
       tbb::parallel_for(size_t(0), cells.size(), [&](size_t i) {
-        trusted[i] = trusted_from(w, cells[i], cam.origin);
-        if (trusted[i]) rects[i] = raster_rect(cam, cell_screen_box(cam, cells[i].lt->fp, *cells[i].node));
+        trusted[i] = trust_from(w, cells[i], cam.origin);
+        if (trusted[i].ok) rects[i] = raster_rect(cam, cell_screen_box(cam, cells[i].lt->fp, *cells[i].node));
       });
       tbb::parallel_for(size_t(0), tiles.size(), [&](size_t i) {
         splat_rows(cam, cells, trusted, rects, tiles[i].y0, tiles[i].y1, owner.data());
       });
     });
-    rp = reprojection_frame{&cells, owner.data()};
+    rp = reprojection_frame{&cells, owner.data(), &trusted};
     out.reprojected_cells = cells.size();
-    out.trusted_cells = std::uint64_t(std::count(trusted.begin(), trusted.end(), std::uint8_t(1)));
+    out.trusted_cells =
+        std::uint64_t(std::count_if(trusted.begin(), trusted.end(), [](const cell_trust& t) { return t.ok; }));
     out.reproject_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
   }
   // Upsample: the reduced frame first, traced over its own tiles.

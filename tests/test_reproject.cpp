@@ -162,9 +162,10 @@ TEST(Reprojection, EpsZeroFullWalkIsTheBaseTracer) {
   EXPECT_EQ(r.fast, 0u);
 }
 
-// A cell of the wall seen past the sphere: trusted from an eye with a clear view, not from
-// an eye whose view of the cell's hit points the sphere may cross.
-TEST(Reprojection, CellIsTrustedOnlyWithNothingBetweenEyeAndItsPoints) {
+// A cell of the wall seen past the sphere: trusted outright from an eye with a clear view;
+// from an eye whose view of the cell's hit points the sphere may cross, trusted with the
+// sphere as a candidate its pixels test.
+TEST(Reprojection, CellIsTrustedWithTheOccludersItsPixelsMustTest) {
   world w = world_of(sweep_scene);
   linetree_set trees(w.prim_bounds);
   workers pool(1);
@@ -192,11 +193,20 @@ TEST(Reprojection, CellIsTrustedOnlyWithNothingBetweenEyeAndItsPoints) {
   ASSERT_NE(ip, nullptr);
   ASSERT_EQ(ip->reason, cell_reason::valid);
   cell_ref c{&lt, n, ip, wall};
-  EXPECT_TRUE(trusted_from(w, c, cam.origin));
-  // An eye on the line from the cell's points through the sphere's centre.
+  const cell_trust clear = trust_from(w, c, cam.origin);
+  EXPECT_TRUE(clear.ok);
+  EXPECT_EQ(clear.count, 0);
+  // An eye on the line from the cell's points through the sphere's centre: the sphere is the
+  // one candidate (the walks below check that its pixels are refused where it hides them).
   const glm::vec3 mid = ip->hit_box.centre(), sphere{0, 1, 3};
   const glm::vec3 behind_sphere = sphere + glm::normalize(sphere - mid) * 2.0f;
-  EXPECT_FALSE(trusted_from(w, c, behind_sphere));
+  const cell_trust hidden = trust_from(w, c, behind_sphere);
+  ASSERT_TRUE(hidden.ok);
+  ASSERT_EQ(hidden.count, 1);
+  int sphere_id = -1;
+  for (size_t i = 0; i < w.shapes.size(); ++i)
+    if (w.shapes[i].kind == shape_kind::sphere) sphere_id = int(i);
+  EXPECT_EQ(hidden.candidates[0], sphere_id);
 }
 
 }  // namespace

@@ -10,18 +10,27 @@
 
 namespace epsray {
 
-bool trusted_from(const world& w, const cell_ref& c, glm::vec3 eye) {
-  if (c.ip->reason != cell_reason::valid || c.ip->hit_box.empty()) return false;
+cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye) {
+  cell_trust out;
+  if (c.ip->reason != cell_reason::valid || c.ip->hit_box.empty()) return out;
   // The hit points must lie ahead of the eye along the cell's direction of travel: a line
   // through the eye meets the object where its cell says, but that may be behind the eye
   // (an object the camera has passed), where the pixel's ray never goes.
   const facepair& fp = c.lt->fp;
   const bool ahead = fp.back > fp.front ? eye[fp.axis] < c.ip->hit_box.lo[fp.axis]
                                         : eye[fp.axis] > c.ip->hit_box.hi[fp.axis];
-  if (!ahead) return false;
-  if (!same_first_hit(w.shapes[size_t(c.prim)], fp, eye)) return false;
+  if (!ahead) return out;
+  if (!same_first_hit(w.shapes[size_t(c.prim)], fp, eye)) return out;
   const shaft s = make_shaft(bounds{eye, eye}, c.ip->hit_box);
-  return !for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) { return id != c.prim; });
+  const bool crowded = for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) {
+    if (id == c.prim || std::find(out.candidates, out.candidates + out.count, id) != out.candidates + out.count)
+      return false;
+    if (out.count == cell_trust::max_candidates) return true;
+    out.candidates[out.count++] = id;
+    return false;
+  });
+  out.ok = !crowded;
+  return out;
 }
 
 bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float x4[4]) {
@@ -31,11 +40,11 @@ bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float 
   return holds(*c.node, x4);
 }
 
-void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std::vector<std::uint8_t>& trusted,
+void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std::vector<cell_trust>& trusted,
                 const std::vector<pixel_rect>& rects, int y0, int y1, std::int32_t* owner) {
   std::fill(owner + size_t(y0) * size_t(cam.width), owner + size_t(y1) * size_t(cam.width), -1);
   for (size_t i = 0; i < cells.size(); ++i) {
-    if (!trusted[i]) continue;
+    if (!trusted[i].ok) continue;
     const pixel_rect& r = rects[i];
     const int ya = std::max(r.y0, y0), yb = std::min(r.y1, y1);
     for (int y = ya; y < yb; ++y) {
@@ -48,8 +57,8 @@ void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std
   }
 }
 
-bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, int x, int y, float eps, trace_state& st,
-                glm::vec3& L) {
+bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell_trust& trust, int x, int y,
+                float eps, trace_state& st, glm::vec3& L) {
   float x4[4];
   if (!eye_line_in_cell(cam, c, x, y, x4)) return false;
   // Textures are looked up, and deferred rays leave, at the pixel's own hit: the trusted
@@ -57,8 +66,15 @@ bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, int x, int
   // closest_hit would.
   const ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
   float t = 0;
-  if ((c.ip->textured || c.ip->deferred || c.ip->deferred_rays) && !hit_shape(w.shapes[size_t(c.prim)], w.polys, r, std::numeric_limits<float>::infinity(), t))
+  if ((trust.count || c.ip->textured || c.ip->deferred || c.ip->deferred_rays) &&
+      !hit_shape(w.shapes[size_t(c.prim)], w.polys, r, std::numeric_limits<float>::infinity(), t))
     return false;
+  // A candidate met before (or, within rounding, at) the point hides it or ties with it:
+  // the interpolate path's visibility ray decides.
+  for (int i = 0; i < trust.count; ++i) {
+    float tc;
+    if (hit_shape(w.shapes[size_t(trust.candidates[i])], w.polys, r, t * (1 + 1e-5f), tc)) return false;
+  }
   return interpolate_line(w, c.prim, *c.node, *c.ip, x4, eps, r, t, st, L);
 }
 

@@ -19,11 +19,19 @@
 
 namespace epsray {
 
-// Is cell c trusted from `eye`: its interpolant valid, the points where its lines meet the
-// object ahead of the eye along the cell's direction, the eye ray's first hit on the
-// object the one its lines hold, and nothing but the object in the shaft from the eye to
-// those points (so no occluder in front of any of them).
-bool trusted_from(const world& w, const cell_ref& c, glm::vec3 eye);
+// How far cell c is trusted from an eye: `ok` when its interpolant is valid, the points
+// where its lines meet the object lie ahead of the eye along the cell's direction, the eye
+// ray's first hit on the object is the one its lines hold, and at most max_candidates
+// other primitives meet the shaft from the eye to those points. Those candidates may hide
+// some of its points: each pixel tests its own eye ray against them (fill_pixel), which
+// the shaft makes exact, since no other primitive can meet the ray before the object.
+struct cell_trust {
+  static constexpr int max_candidates = 7;
+  bool ok = false;
+  std::uint8_t count = 0;
+  std::int32_t candidates[max_candidates] = {};
+};
+cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye);
 
 // The line of pixel (x, y) in the cell's facepair coordinates, as the interpolate path
 // computes it; true when the pixel's ray runs in the facepair's direction and its line
@@ -32,14 +40,14 @@ bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float 
 
 // Owner of each pixel of rows [y0, y1): the index of the first trusted cell (in list order)
 // holding the pixel's line, or -1. `owner` is the whole image's buffer, row-major.
-void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std::vector<std::uint8_t>& trusted,
+void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std::vector<cell_trust>& trusted,
                 const std::vector<pixel_rect>& rects, int y0, int y1, std::int32_t* owner);
 
-// Span fill of pixel (x, y) from its owner: false when the bound does not meet epsilon for
-// this pixel's line (the pixel then takes the interpolate path).
-// Cells with deferred lights cast their shadow rays from the pixel's hit on the cell's object.
-bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, int x, int y, float eps, trace_state& st,
-                glm::vec3& L);
+// Span fill of pixel (x, y) from its owner: false when a candidate occluder may hide the
+// pixel's point or the bound does not meet epsilon for its line (the pixel then takes the
+// interpolate path).
+bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell_trust& trust, int x, int y,
+                float eps, trace_state& st, glm::vec3& L);
 
 // The cells a frame used, gathered from its tiles, in a deterministic order (primitive,
 // facepair, ranges) without repeats: the next frame's list.
