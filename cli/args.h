@@ -28,7 +28,7 @@ struct cli_options {
   std::string record, script, screenshot;  // view only
   float min_cell_pixels = 16;
   float failed_split_pixels = 0;
-  float defer_pixels = 64;
+  float defer_pixels = 256;
   bool four_way = true;
   bool pin = false;  // bind worker threads to cores (hwloc)
   double memory_mb = 0;  // linetree memory budget; 0: none

@@ -177,6 +177,8 @@ INSTANTIATE_TEST_SUITE_P(
         bad_flags{"upsample_0", render_args({"--upsample", "0"}), "--upsample"},
         bad_flags{"reuse_age_negative", render_args({"--reuse-age", "-1"}), "--reuse-age"},
         bad_flags{"lf_depth_17", render_args({"--lf-depth", "17"}), "--lf-depth"},
+        bad_flags{"defer_pixels_negative", render_args({"--defer-pixels", "-1"}), "--defer-pixels"},
+        bad_flags{"failed_split_pixels_nan", render_args({"--failed-split-pixels", "nan"}), "--failed-split-pixels"},
         bad_flags{"unknown_option", render_args({"--bogus"}), "--bogus"},
         bad_flags{"frame_without_path", render_args({"--frame", "0"}), "--frame"},
         bad_flags{"frame_out_of_range", render_args({"--path", "two.path", "--frame", "2"}), "--frame"},

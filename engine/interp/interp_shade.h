@@ -18,7 +18,7 @@ struct interp_params {
   float min_cell_pixels = 16;  // no subdivision into children covering fewer pixels
   float failed_split_pixels = 0;  // ... nor, after a discontinuity or a miss, fewer than these
   float max_cell_pixels = 4096;  // larger cells are subdivided without building an interpolant
-  float defer_pixels = 64;     // cells under these pixels may leave lights and secondary
+  float defer_pixels = 256;    // cells under these pixels may leave lights and secondary
                                // rays they cannot prove to per-pixel rays
   int max_depth = 16;          // halvings of any axis below the root (floats keep ~7 digits)
   bool four_way = true;        // halve only the axes the failure points at (section 8.6)
