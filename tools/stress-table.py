@@ -69,8 +69,9 @@ def main():
     ap.add_argument("--threads", type=int, default=0)
     a = ap.parse_args()
 
-    print("| scene | path | mode | eps | size | frames | fast | interp | base | max rel. error | over eps |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    print("| scene | path | mode | eps | size | frames | fast | interp | base | with per-pixel rays | max rel. error | "
+          "over eps |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     bad = False
     with tempfile.TemporaryDirectory() as tmp:
         for scene, path, mode, eps, *extra in WALKS:
@@ -88,19 +89,20 @@ def main():
             r = subprocess.run(cmd, capture_output=True, text=True)
             if r.returncode != 0:
                 bad = True
-                print("| %s | %s | %s | %g | %s | exit %d: %s |||||| " % (scene, path, mode, eps, label, r.returncode,
+                print("| %s | %s | %s | %g | %s | exit %d: %s ||||||| " % (scene, path, mode, eps, label, r.returncode,
                                                                       r.stderr.strip().replace("|", "/")))
                 continue
             with open(stats) as f:
                 frames = json.load(f)["frames"]
             px = {k: sum(fr["pixels"][k] for fr in frames) for k in ("fast", "interp", "base")}
             total = sum(px.values())
+            deferred = sum(fr.get("deferred_pixels", 0) for fr in frames)
             err = max(fr["verify"]["max_rel_err"] for fr in frames)
             over = sum(fr["verify"]["violations"] for fr in frames)
             bad |= over > 0
-            print("| %s | %s | %s | %g | %s | %d | %.1f%% | %.1f%% | %.1f%% | %.2g | %d |" % (
+            print("| %s | %s | %s | %g | %s | %d | %.1f%% | %.1f%% | %.1f%% | %.1f%% | %.2g | %d |" % (
                 scene, path, mode, eps, label, len(frames), 100.0 * px["fast"] / total,
-                100.0 * px["interp"] / total, 100.0 * px["base"] / total, err, over))
+                100.0 * px["interp"] / total, 100.0 * px["base"] / total, 100.0 * deferred / total, err, over))
     return 1 if bad else 0
 
 

@@ -87,23 +87,25 @@ def main():
             worst = max(last["frames"], key=lambda g: g["verify"]["max_rel_err"])["verify"]
             over = sum(g["verify"]["violations"] for g in last["frames"])
             rows.append((name, eps, base_ms, cold_ms, warm_ms, base_ms / warm_ms, n_int / n,
-                         cost(last["frames"][:1], "interp"), cost(last["frames"][1:], "interp"),
+                         f.get("deferred_pixels", 0) / n, cost(last["frames"][:1], "interp"), cost(last["frames"][1:], "interp"),
                          cost(last["frames"][1:], "base"), worst["max_rel_err"], f["verify"]["p999_rel_err"], over,
                          f["memory_bytes"] / 1e6))
             print("%-12s eps %-5g base %7.1f ms cold %8.1f ms warm %7.1f ms base/warm %5.2f interp %5.1f%% "
-                  "interp cost cold %6.2f warm %5.2f, traced %5.2f max %.4f p99.9 %.4f over %d mem %.1f MB" %
-                  (*rows[-1][:6], 100 * rows[-1][6], *rows[-1][7:]), flush=True)
+                  "(per-pixel rays %5.1f%%) interp cost cold %6.2f warm %5.2f, traced %5.2f max %.4f p99.9 %.4f "
+                  "over %d mem %.1f MB" % (*rows[-1][:6], 100 * rows[-1][6], 100 * rows[-1][7], *rows[-1][8:]),
+                  flush=True)
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
     with open(a.out, "w") as out:
         out.write("# Interpolants vs base (%s, %d threads, %d rep(s), median frame ms; %s)\n\n" %
                   (a.size, a.threads, a.reps, time.strftime("%Y-%m-%d %H:%M")))
         out.write("| scene | eps | base ms | interp cold ms | interp warm ms | base/warm | interpolated | "
-                  "cost of an interpolated pixel, cold | warm | cost of a traced pixel in interp mode, warm | "
-                  "max err | 99.9% err | pixels over eps | memory MB |\n")
-        out.write("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
+                  "of which with per-pixel rays | cost of an interpolated pixel, cold | warm | "
+                  "cost of a traced pixel in interp mode, warm | max err | 99.9% err | pixels over eps | memory MB |\n")
+        out.write("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
         for r in rows:
-            out.write("| %s | %g | %.1f | %.1f | %.1f | %.2f | %.1f%% | %.2f | %.2f | %.2f | %.4f | %.4f | %d | %.1f |\n" %
-                      (r[0], r[1], r[2], r[3], r[4], r[5], 100 * r[6], r[7], r[8], r[9], r[10], r[11], r[12], r[13]))
+            out.write("| %s | %g | %.1f | %.1f | %.1f | %.2f | %.1f%% | %.1f%% | %.2f | %.2f | %.2f | %.4f | %.4f | %d | "
+                      "%.1f |\n" % (r[0], r[1], r[2], r[3], r[4], r[5], 100 * r[6], 100 * r[7], r[8], r[9], r[10],
+                                     r[11], r[12], r[13], r[14]))
     print("wrote", a.out)
     return 0
 
