@@ -3,6 +3,7 @@
 #include <oneapi/tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <tuple>
 
@@ -21,7 +22,14 @@ cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye) {
                                         : eye[fp.axis] > c.ip->hit_box.hi[fp.axis];
   if (!ahead) return out;
   if (!same_first_hit(w.shapes[size_t(c.prim)], fp, eye)) return out;
-  const shaft s = make_shaft(bounds{eye, eye}, c.ip->hit_box);
+  // A pixel's point, computed in floats from its own eye ray, may lie some ulps outside the
+  // box the predicate proved for the cell's lines: the shaft takes a margin of ~100 ulps.
+  bounds hb = c.ip->hit_box;
+  float mag = 0;
+  for (int i = 0; i < 3; ++i) mag = std::max({mag, std::fabs(hb.lo[i]), std::fabs(hb.hi[i]), std::fabs(eye[i])});
+  const glm::vec3 margin(1e-5f * (1 + mag));
+  hb.lo -= margin, hb.hi += margin;
+  const shaft s = make_shaft(bounds{eye, eye}, hb);
   const bool crowded = for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) {
     if (id == c.prim || std::find(out.candidates, out.candidates + out.count, id) != out.candidates + out.count)
       return false;
