@@ -242,17 +242,21 @@ bool interpolate_line(const world& w, int prim, const lt_node& n, const interpol
   corner_weights(t, wts);
   L = interpolate(ip.rad, wts);
   glm::vec3 E = ip.err;
+  const bool deferring = (ip.deferred | ip.deferred_rays) != 0;
+  if (!ip.textured && !deferring) return within(L, E, eps);
+  // The pixel's own hit point, found once for its texture and its deferred terms.
+  const surface sf = surface_at(w, prim, r, t_hit);
+  glm::vec3 T{1};
   if (ip.textured) {
     // The texture is looked up at the pixel's own hit point, exactly as the reference does,
     // so only the factor it multiplies carries an error: |T g* - T g| <= T err_tex.
     const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
-    const glm::vec3 T =
-        sample_texture(w.sc.textures[size_t(m.texture)], surface_uv(w, prim, surface_at(w, prim, r, t_hit).p));
+    T = sample_texture(w.sc.textures[size_t(m.texture)], surface_uv(w, prim, sf.p));
     L += T * interpolate(ip.tex, wts);
     E += T * ip.err_tex;
   }
   // Deferred terms are exact: they add radiance, not error.
-  if (ip.deferred | ip.deferred_rays) L += deferred_terms(w, r, hit{t_hit, prim}, ip.deferred, ip.deferred_rays, st);
+  if (deferring) L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, ip.deferred_rays, st);
   return within(L, E, eps);
 }
 

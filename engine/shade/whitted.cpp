@@ -162,13 +162,20 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
 vec3 deferred_terms(const world& w, const ray& r, const hit& h, std::uint32_t lights, std::uint32_t rays,
                     trace_state& st) {
   const surface sf = surface_at(w, h.prim, r, h.t);
+  const int tex = w.sc.materials[size_t(w.info[size_t(h.prim)].material)].texture;
+  const vec3 texel = tex >= 0 ? sample_texture(w.sc.textures[size_t(tex)], surface_uv(w, h.prim, sf.p)) : vec3(1);
+  return deferred_terms(w, r, h, sf, texel, lights, rays, st);
+}
+
+vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& sf, vec3 texel, std::uint32_t lights,
+                    std::uint32_t rays, trace_state& st) {
   const material& m = w.sc.materials[size_t(w.info[size_t(h.prim)].material)];
   const bool entering = glm::dot(sf.ng, r.d) < 0;
   const vec3 nf = entering ? sf.ns : -sf.ns;
   vec3 L{0};
   if (lights) {
     vec3 colour = m.color;
-    if (m.texture >= 0) colour *= sample_texture(w.sc.textures[size_t(m.texture)], surface_uv(w, h.prim, sf.p));
+    if (m.texture >= 0) colour *= texel;
     const vec3 kd_c = m.kd * colour;
     const vec3 above = sf.p + w.delta * nf;
     for (size_t j = 0; j < w.light_pos.size() && j < size_t(max_deferred_lights); ++j) {

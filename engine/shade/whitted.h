@@ -69,5 +69,10 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
 // named in `rays` (deferred_reflect, deferred_refract), traced.
 vec3 deferred_terms(const world& w, const ray& r, const hit& h, std::uint32_t lights, std::uint32_t rays,
                     trace_state& state);
+// The same at a surface point the caller has already found (surface_at of r and h) with
+// its texture value (1 when untextured): the interpolate path has both at hand.
+struct surface;
+vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& sf, vec3 texel, std::uint32_t lights,
+                    std::uint32_t rays, trace_state& state);
 
 }  // namespace epsray
