@@ -295,13 +295,6 @@ struct parser {
     for (size_t i = 0; i < t.texels.size(); ++i)
       t.texels[i] = {to_linear(data[3 * i]), to_linear(data[3 * i + 1]), to_linear(data[3 * i + 2])};
     stbi_image_free(data);
-    // Bounds the slope of the bilinear texture, for the interpolants' texture error.
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        vec3 c = t.texels[size_t(y * w + x)];
-        vec3 r = t.texels[size_t(y * w + (x + 1) % w)], d = t.texels[size_t(((y + 1) % h) * w + x)];
-        t.max_step = glm::max(t.max_step, glm::max(glm::abs(r - c), glm::abs(d - c)));
-      }
   }
 
   void parse_transform(const text_line& l, std::string_view key) {

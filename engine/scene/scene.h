@@ -31,7 +31,6 @@ struct texture {
   vec2 scale{1, 1};                          // world units per repeat along u and v
   int width = 0, height = 0;                 // image texels, linear RGB, top row first
   std::vector<vec3> texels;
-  vec3 max_step{0};  // largest difference of neighbouring texels (wrapping), per channel
   std::string file;
 };
 
