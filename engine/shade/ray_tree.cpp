@@ -1,5 +1,7 @@
 #include "shade/ray_tree.h"
 
+#include "shade/whitted.h"
+
 namespace epsray {
 
 bool same_topology(const ray_tree& a, const ray_tree& b) {
@@ -44,7 +46,7 @@ bool same_topology_deferring(const ray_tree& a, const ray_tree& b, std::size_t n
   if (x.prim >= 0) {
     for (std::size_t k = 0; k < nl; ++k) {
       if (a.lights[x.lights + k] == b.lights[y.lights + k]) continue;
-      if (k >= 8) return false;
+      if (k >= std::size_t(max_deferred_lights)) return false;
       dl |= 1u << k;
     }
   }

@@ -27,7 +27,7 @@ int shadow_blocker(const world& w, const ray& r, float dist, size_t light, trace
 
 // Light j at a surface point: whether it reaches the point (lit, behind the surface or
 // the blocker's scene index) and, when lit, the diffuse cosine and the specular power.
-// One routine for shade_hit and direct_light, so a per-pixel shadow ray is the reference's.
+// One routine for shade_hit and deferred_terms, so a per-pixel shadow ray is the reference's.
 struct light_term {
   std::int32_t status = light_behind;
   float ndl = 0, spec = 0;
