@@ -13,6 +13,8 @@
 #include "predicate/error_predicate.h"
 #include "sched/frame_render.h"
 #include "sched/verify.h"
+#include "shade/surface.h"
+#include "shade/texture.h"
 #include "test_util.h"
 
 namespace epsray {
@@ -233,6 +235,7 @@ struct sound_stats {
   int accepted = 0, rejected = 0;
   int accepted_in_shadow = 0;  // accepted cells whose topology has a light blocked
   int deferred = 0;            // accepted cells with a deferred light or subtree
+  int listed = 0;              // ... whose deferred lights test listed candidate blockers
 };
 
 void check_soundness(const world& w, int samples_per_cell, int depth_lo, int depth_hi, sound_stats& st,
@@ -273,6 +276,8 @@ void check_soundness(const world& w, int samples_per_cell, int depth_lo, int dep
         ASSERT_TRUE(defer || (b.deferred | b.deferred_rays) == 0);
         ++st.accepted;
         st.deferred += (b.deferred | b.deferred_rays) != 0;
+        st.listed += b.shadow.lights != 0;
+        ASSERT_EQ(b.shadow.lights & ~b.deferred, 0u) << "candidates listed for a light that is not deferred";
         for (std::int32_t status : corner_trees[0].lights) st.accepted_in_shadow += status >= 0;
         // The corners without their deferred terms, computed the way a pixel computes them.
         for (int k = 0; k < 16; ++k) {
@@ -297,7 +302,16 @@ void check_soundness(const world& w, int samples_per_cell, int depth_lo, int dep
           ts.tree = &probe;
           glm::vec3 f = shade_hit(w, lr, hit{t, h.prim}, 1, ts);
           ts.tree = nullptr;
-          f -= deferred_terms(w, lr, hit{t, h.prim}, b.deferred, b.deferred_rays, ts);
+          const glm::vec3 exact = deferred_terms(w, lr, hit{t, h.prim}, b.deferred, b.deferred_rays, ts);
+          // The per-pixel shadow rays against the listed candidates alone: the BVH walk's answer.
+          const int tex = w.sc.materials[size_t(w.info[size_t(h.prim)].material)].texture;
+          const surface sfc = surface_at(w, h.prim, lr, t);
+          const glm::vec3 texel =
+              tex >= 0 ? sample_texture(w.sc.textures[size_t(tex)], surface_uv(w, h.prim, sfc.p)) : glm::vec3(1);
+          const glm::vec3 listed =
+              deferred_terms(w, lr, hit{t, h.prim}, sfc, texel, b.deferred, b.deferred_rays, &b.shadow, ts);
+          for (int ch = 0; ch < 3; ++ch) ASSERT_EQ(listed[ch], exact[ch]) << "a listed shadow ray missed its blocker";
+          f -= exact;
           std::uint32_t pl = 0, pr = 0;
           ASSERT_TRUE(same_topology_deferring(corner_trees[0], probe, nl, defer, &pl, &pr))
               << "accepted cell has a discontinuity";
@@ -354,6 +368,7 @@ p 4
     EXPECT_GT(s.accepted, 10);
     EXPECT_GT(s.rejected, 10);
     EXPECT_EQ(s.deferred > 5, defer);  // cells across the occluder's shadow, the glass' edges, ...
+    EXPECT_EQ(s.listed > 5, defer);
   }
 }
 
@@ -394,6 +409,7 @@ p 6
     EXPECT_GT(s.accepted, 20);
     EXPECT_GT(s.accepted_in_shadow, 5);
     EXPECT_EQ(s.deferred > 5, defer);  // cells across the umbras' edges
+    EXPECT_EQ(s.listed > 5, defer);
   }
 }
 

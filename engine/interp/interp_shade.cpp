@@ -171,6 +171,7 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
   ip->reason = b.reason, ip->err = b.err, ip->err_tex = b.err_tex, ip->hit_box = b.hit_box;
   ip->split = b.reason == cell_reason::valid || b.reason == cell_reason::nonlinear ? b.split : axes_by_extent(n);
   ip->deferred = std::uint8_t(b.deferred), ip->deferred_rays = std::uint8_t(b.deferred_rays);
+  ip->shadow = b.shadow;
   // The corners without the deferred terms (what the bound is for): the same sums
   // shade_hit adds, taken out again.
   for (int k = 0; k < 16; ++k)
@@ -256,7 +257,7 @@ bool interpolate_line(const world& w, int prim, const lt_node& n, const interpol
     E += T * ip.err_tex;
   }
   // Deferred terms are exact: they add radiance, not error.
-  if (deferring) L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, ip.deferred_rays, st);
+  if (deferring) L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, ip.deferred_rays, &ip.shadow, st);
   return within(L, E, eps);
 }
 

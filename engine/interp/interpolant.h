@@ -5,6 +5,7 @@
 #include <glm/glm.hpp>
 
 #include "geom/bounds.h"
+#include "shade/whitted.h"
 
 namespace epsray {
 
@@ -30,6 +31,7 @@ struct interpolant {
   std::uint8_t deferred = 0;  // bit j: light j is shaded per pixel with a shadow ray, not
                               // interpolated (its visibility changes inside the cell)
   std::uint8_t deferred_rays = 0;  // deferred_reflect / deferred_refract: traced per pixel
+  shadow_candidates shadow;        // deferred lights' possible blockers (engine/shade/whitted.h)
   glm::vec3 rad[16];       // radiance but the deferred lights'; textured: the part the
                            // texture does not multiply
   glm::vec3 tex[16];       // textured: the factor the root's texture multiplies

@@ -102,15 +102,46 @@ struct evaluator {
   const world& w;
   const ray_tree& tree;
   cell_reason fail = cell_reason::valid;
-  double far;  // farther than any scene point from any ray origin we see
-  bounds root_hits;  // where the cell's lines meet the object
+  double far = 0;  // farther than any scene point from any ray origin we see
+  bounds root_hits{};  // where the cell's lines meet the object
   std::uint32_t deferred = 0;  // the root's lights left to per-pixel shadow rays
   std::uint32_t deferred_rays = 0;  // ... and its subtrees left to per-pixel rays
   bool allow_defer = false;         // may more lights and subtrees be deferred
+  shadow_candidates shadow{};       // the deferred lights' possible blockers, where few
 
   bool reject(cell_reason r) {
     if (fail == cell_reason::valid) fail = r;
     return false;
+  }
+
+  // For each deferred light, the primitives (but `self`, when a shadow ray cannot meet it
+  // again) in the shaft from the box of the shadow rays' origins to the light, while they
+  // fit in `shadow`. Both ends take a margin of ~100 ulps: a pixel's origin is computed in
+  // floats from its own eye ray.
+  void list_shadow_candidates(bounds from, int self) {
+    auto widen = [](bounds b) {
+      float mag = 0;
+      for (int i = 0; i < 3; ++i) mag = std::max({mag, std::fabs(b.lo[i]), std::fabs(b.hi[i])});
+      const glm::vec3 m(1e-5f * (1 + mag));
+      b.lo -= m, b.hi += m;
+      return b;
+    };
+    if (!finite_box(from)) return;
+    from = widen(from);
+    for (size_t j = 0; j < w.light_pos.size() && j < size_t(max_deferred_lights); ++j) {
+      if (!(deferred >> j & 1)) continue;
+      shadow_candidates next = shadow;
+      const shaft s = make_shaft(from, widen(bounds{w.light_pos[j], w.light_pos[j]}));
+      const bool over = for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) {
+        if (id == self || std::find(next.prims, next.prims + next.count, id) != next.prims + next.count) return false;
+        if (next.count == shadow_candidates::max_prims) return true;
+        next.prims[next.count++] = id;
+        return false;
+      });
+      if (over) continue;  // light j keeps the BVH walk
+      next.lights |= 1u << j;
+      shadow = next;
+    }
   }
 
   // No primitive other than skip_a / skip_b may meet a segment from box a to box b.
@@ -586,6 +617,7 @@ struct evaluator {
       }
     }
     const bool leave_ok = cannot_reenter(kind, sf.from_outside);
+    if (from < 0 && deferred) list_shadow_candidates(above_box, leave_ok ? prim : -1);
     // The eye ray's reflected and transmitted subtrees may be left to per-pixel rays (where
     // allowed): those the corners disagree on are, and so is any this cell cannot bound.
     const bool root = from < 0;
@@ -649,7 +681,8 @@ struct evaluator {
 cell_bound bound_cell(const cell_query& q) {
   const world& w = *q.w;
   const facepair& fp = *q.fp;
-  evaluator ev{w, *q.tree, cell_reason::valid, 0, bounds{}, q.deferred, q.deferred_rays, q.allow_defer};
+  evaluator ev{w, *q.tree};  // the rest by name: a positional list silently shifts when members move
+  ev.deferred = q.deferred, ev.deferred_rays = q.deferred_rays, ev.allow_defer = q.allow_defer;
   glm::dvec3 ext = dv(w.box.extent());
   double scene = glm::length(ext);
   // Lines start on the facepair's front plane, within a few object sizes of the scene.
@@ -673,6 +706,7 @@ cell_bound bound_cell(const cell_query& q) {
   out.hit_box = ev.root_hits;
   out.deferred = ev.deferred;
   out.deferred_rays = ev.deferred_rays;
+  out.shadow = ev.shadow;
   double h[4];
   for (int i = 0; i < 4; ++i) h[i] = double(q.hi[i]) - double(q.lo[i]);
   double axis[4] = {0, 0, 0, 0};

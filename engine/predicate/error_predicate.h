@@ -37,6 +37,7 @@ struct cell_bound {
                                // without them, they are shaded per pixel with a shadow ray
                                // (deferred_terms)
   std::uint32_t deferred_rays = 0;  // likewise the root's subtrees, traced per pixel
+  shadow_candidates shadow;         // deferred lights whose shadow rays may test these alone
 };
 
 cell_bound bound_cell(const cell_query& q);

@@ -33,8 +33,10 @@ struct light_term {
   float ndl = 0, spec = 0;
 };
 
+// blocker(ray, dist): some primitive the shadow ray meets before the light, or -1.
+template <class Blocker>
 inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above, vec3 nf, vec3 v, size_t j,
-                           trace_state& st) {
+                           trace_state& st, Blocker&& blocker_of) {
   light_term out;
   const vec3 lj = glm::normalize(w.light_pos[j] - p);
   out.ndl = glm::dot(nf, lj);
@@ -42,13 +44,19 @@ inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above
   ++st.counts.shadow;
   vec3 so = w.light_pos[j] - above;
   float dist = glm::length(so);
-  int blocker = dist > 0 ? shadow_blocker(w, make_ray(above, so / dist), dist, j, st) : -1;
+  int blocker = dist > 0 ? blocker_of(make_ray(above, so / dist), dist) : -1;
   out.status = blocker >= 0 ? w.info[size_t(blocker)].source : light_lit;
   if (blocker < 0 && m.shine > 0) {
     vec3 hj = glm::normalize(lj + v);
     out.spec = std::pow(std::max(0.0f, glm::dot(nf, hj)), m.shine);
   }
   return out;
+}
+
+inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above, vec3 nf, vec3 v, size_t j,
+                           trace_state& st) {
+  return light_at(w, m, p, above, nf, v, j, st,
+                  [&](const ray& r, float dist) { return shadow_blocker(w, r, dist, j, st); });
 }
 
 // The reflected and transmitted terms of shade_hit (ks Lr, t Lt), shared with
@@ -164,11 +172,11 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, std::uint32_t li
   const surface sf = surface_at(w, h.prim, r, h.t);
   const int tex = w.sc.materials[size_t(w.info[size_t(h.prim)].material)].texture;
   const vec3 texel = tex >= 0 ? sample_texture(w.sc.textures[size_t(tex)], surface_uv(w, h.prim, sf.p)) : vec3(1);
-  return deferred_terms(w, r, h, sf, texel, lights, rays, st);
+  return deferred_terms(w, r, h, sf, texel, lights, rays, nullptr, st);
 }
 
 vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& sf, vec3 texel, std::uint32_t lights,
-                    std::uint32_t rays, trace_state& st) {
+                    std::uint32_t rays, const shadow_candidates* cands, trace_state& st) {
   const material& m = w.sc.materials[size_t(w.info[size_t(h.prim)].material)];
   const bool entering = glm::dot(sf.ng, r.d) < 0;
   const vec3 nf = entering ? sf.ns : -sf.ns;
@@ -180,7 +188,18 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& s
     const vec3 above = sf.p + w.delta * nf;
     for (size_t j = 0; j < w.light_pos.size() && j < size_t(max_deferred_lights); ++j) {
       if (!(lights >> j & 1)) continue;
-      const light_term lt = light_at(w, m, sf.p, above, nf, -r.d, j, st);
+      const bool listed = cands && (cands->lights >> j & 1);
+      const light_term lt =
+          listed ? light_at(w, m, sf.p, above, nf, -r.d, j, st,
+                            [&](const ray& sr, float dist) {
+                              for (int i = 0; i < cands->count; ++i) {
+                                float t;
+                                const int id = cands->prims[i];
+                                if (hit_shape(w.shapes[size_t(id)], w.polys, sr, dist, t)) return id;
+                              }
+                              return -1;
+                            })
+                 : light_at(w, m, sf.p, above, nf, -r.d, j, st);
       if (lt.status == light_lit) L += w.light_power[j] * (kd_c * lt.ndl + m.ks * lt.spec);
     }
   }

@@ -46,6 +46,16 @@ struct trace_state {
   vec3* root_rays = nullptr;
 };
 
+// The primitives that may block deferred lights' shadow rays, for a cell whose shadow
+// shafts hold few of them: each listed light's per-pixel shadow ray is tested against
+// these alone, which gives the BVH walk's answer since no other primitive meets its shaft.
+struct shadow_candidates {
+  static constexpr int max_prims = 6;
+  std::uint32_t lights = 0;  // bit j: light j's shaft is covered by prims
+  int count = 0;
+  std::int32_t prims[max_prims] = {};
+};
+
 // Secondary rays of an eye ray's hit that a cell may leave to per-pixel tracing.
 enum : std::uint32_t { deferred_reflect = 1, deferred_refract = 2 };
 
@@ -70,9 +80,10 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
 vec3 deferred_terms(const world& w, const ray& r, const hit& h, std::uint32_t lights, std::uint32_t rays,
                     trace_state& state);
 // The same at a surface point the caller has already found (surface_at of r and h) with
-// its texture value (1 when untextured): the interpolate path has both at hand.
+// its texture value (1 when untextured): the interpolate path has both at hand. Lights
+// listed in `candidates` (may be null) test their shadow rays against its prims alone.
 struct surface;
 vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& sf, vec3 texel, std::uint32_t lights,
-                    std::uint32_t rays, trace_state& state);
+                    std::uint32_t rays, const shadow_candidates* candidates, trace_state& state);
 
 }  // namespace epsray
