@@ -1,6 +1,7 @@
 // Axis-aligned boxes for the BVH.
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <glm/glm.hpp>
 #include <limits>
 
@@ -22,6 +23,17 @@ struct bounds {
     return 2 * (e.x * e.y + e.y * e.z + e.z * e.x);
   }
 };
+
+// b grown by ~100 ulps of the largest coordinate magnitude of b and of `also` (an eye, say):
+// points computed in floats from their own rays may lie that far outside a box proven for
+// them in exact arithmetic.
+inline bounds with_rounding_margin(bounds b, vec3 also = vec3(0)) {
+  float mag = 0;
+  for (int i = 0; i < 3; ++i) mag = std::max({mag, std::fabs(b.lo[i]), std::fabs(b.hi[i]), std::fabs(also[i])});
+  const vec3 m(1e-5f * (1 + mag));
+  b.lo -= m, b.hi += m;
+  return b;
+}
 
 // Slab test; true when [t0, t1] overlaps the box. NaN-safe: 0 * inf lanes are dropped by
 // the operand order of min/max (std::min returns its first argument on NaN comparisons).

@@ -119,19 +119,12 @@ struct evaluator {
   // fit in `shadow`. Both ends take a margin of ~100 ulps: a pixel's origin is computed in
   // floats from its own eye ray.
   void list_shadow_candidates(bounds from, int self) {
-    auto widen = [](bounds b) {
-      float mag = 0;
-      for (int i = 0; i < 3; ++i) mag = std::max({mag, std::fabs(b.lo[i]), std::fabs(b.hi[i])});
-      const glm::vec3 m(1e-5f * (1 + mag));
-      b.lo -= m, b.hi += m;
-      return b;
-    };
     if (!finite_box(from)) return;
-    from = widen(from);
+    from = with_rounding_margin(from);
     for (size_t j = 0; j < w.light_pos.size() && j < size_t(max_deferred_lights); ++j) {
       if (!(deferred >> j & 1)) continue;
       shadow_candidates next = shadow;
-      const shaft s = make_shaft(from, widen(bounds{w.light_pos[j], w.light_pos[j]}));
+      const shaft s = make_shaft(from, with_rounding_margin(bounds{w.light_pos[j], w.light_pos[j]}));
       const bool over = for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) {
         if (id == self || std::find(next.prims, next.prims + next.count, id) != next.prims + next.count) return false;
         if (next.count == shadow_candidates::max_prims) return true;

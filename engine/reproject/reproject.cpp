@@ -23,13 +23,8 @@ cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye) {
   if (!ahead) return out;
   if (!same_first_hit(w.shapes[size_t(c.prim)], fp, eye)) return out;
   // A pixel's point, computed in floats from its own eye ray, may lie some ulps outside the
-  // box the predicate proved for the cell's lines: the shaft takes a margin of ~100 ulps.
-  bounds hb = c.ip->hit_box;
-  float mag = 0;
-  for (int i = 0; i < 3; ++i) mag = std::max({mag, std::fabs(hb.lo[i]), std::fabs(hb.hi[i]), std::fabs(eye[i])});
-  const glm::vec3 margin(1e-5f * (1 + mag));
-  hb.lo -= margin, hb.hi += margin;
-  const shaft s = make_shaft(bounds{eye, eye}, hb);
+  // box the predicate proved for the cell's lines.
+  const shaft s = make_shaft(bounds{eye, eye}, with_rounding_margin(c.ip->hit_box, eye));
   const bool crowded = for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) {
     if (id == c.prim || std::find(out.candidates, out.candidates + out.count, id) != out.candidates + out.count)
       return false;
@@ -41,11 +36,17 @@ cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye) {
   return out;
 }
 
-bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float x4[4]) {
-  const glm::vec3 d = eye_direction(cam, float(x), float(y));
+namespace {
+// The line of the eye ray with direction d, in the cell's facepair coordinates.
+bool line_in_cell(const camera& cam, const cell_ref& c, glm::vec3 d, float x4[4]) {
   if (facepair_of(d) != c.lt->fp.index) return false;  // the line, run the other way
   line_coords(c.lt->fp, cam.origin, d, x4);
   return holds(*c.node, x4);
+}
+}  // namespace
+
+bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float x4[4]) {
+  return line_in_cell(cam, c, eye_direction(cam, float(x), float(y)), x4);
 }
 
 void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std::vector<cell_trust>& trusted,
@@ -68,11 +69,12 @@ void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std
 bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell_trust& trust, int x, int y,
                 float eps, trace_state& st, glm::vec3& L) {
   float x4[4];
-  if (!eye_line_in_cell(cam, c, x, y, x4)) return false;
+  const glm::vec3 d = eye_direction(cam, float(x), float(y));
+  if (!line_in_cell(cam, c, d, x4)) return false;
   // Textures are looked up, and deferred rays leave, at the pixel's own hit: the trusted
   // cell's object is the first hit along the eye ray, so the object alone gives the point
   // closest_hit would.
-  const ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
+  const ray r = make_ray(cam.origin, d);
   float t = 0;
   if ((trust.count || c.ip->textured || c.ip->deferred || c.ip->deferred_rays) &&
       !hit_shape(w.shapes[size_t(c.prim)], w.polys, r, std::numeric_limits<float>::infinity(), t))
