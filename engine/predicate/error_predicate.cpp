@@ -252,9 +252,14 @@ struct evaluator {
     djet R = qa * k + r0, S = da * k;
     djet A = dot(dp, dp) - sqr(S);
     djet B = 2.0 * (dot(qp, dp) - R * S);
-    djet C = dot(qp, qp) - sqr(R);
     if (!(lo(A.v) > 0 || hi(A.v) < 0)) return reject(cell_reason::discontinuity);
-    djet disc = sqr(B) - 4.0 * (A * C);
+    // B^2 - 4AC rewritten by Lagrange's identity as 4 (|R dp - S qp|^2 - |qp x dp|^2): the
+    // same value, but as the difference of two small squares instead of large correlated
+    // products, so its enclosure is tight enough to prove that a line through the middle
+    // of a column meets it (B^2 - 4AC's went negative on 5-pixel cells).
+    jv rs = dp * R - qp * S;
+    jv cr = {qp.y * dp.z - qp.z * dp.y, qp.z * dp.x - qp.x * dp.z, qp.x * dp.y - qp.y * dp.x};
+    djet disc = 4.0 * (dot(rs, rs) - dot(cr, cr));
     if (!positive(disc)) return reject(cell_reason::missed);
     djet sq = sqrt(disc);
     djet ta = (-B - sq) / (2.0 * A), tb = (-B + sq) / (2.0 * A);
@@ -313,11 +318,30 @@ struct evaluator {
       }
       return false;
     };
+    // From outside: every line enters through face k when its point there lies inside the
+    // face's rectangle. Testing the point's own face coordinates keeps the correlation
+    // between the slabs' entry and exit times that comparing their separate ranges loses
+    // (which failed most cells of a box seen at a slant).
+    int k;
+    for (k = 0; k < 3; ++k) {
+      if (!positive(nearv[k])) continue;
+      const jv pk = q + d * nearv[k];
+      bool inside = true;
+      for (int j = 0; j < 3 && inside; ++j) {
+        if (j == k) continue;
+        const djet u = dot(pk, dv(*ax[j]));
+        inside = hi(u.v) < double(g.half[j]) && lo(u.v) > -double(g.half[j]);
+      }
+      if (inside) break;
+    }
     double max_near_hi = std::max({hi(nearv[0].v), hi(nearv[1].v), hi(nearv[2].v)});
     double min_far_lo = std::min({lo(farv[0].v), lo(farv[1].v), lo(farv[2].v)});
-    if (!(max_near_hi < min_far_lo)) return reject(cell_reason::missed);
-    int k;
-    if (unique_max(nearv, k) && positive(nearv[k])) {
+    if (k < 3) {
+      s.t = nearv[k], s.from_outside = true;
+      s.ng = constant(dv(*ax[k]) * (lo(dl[k].v) > 0 ? -1.0 : 1.0));
+    } else if (!(max_near_hi < min_far_lo)) {
+      return reject(cell_reason::missed);
+    } else if (unique_max(nearv, k) && positive(nearv[k])) {
       s.t = nearv[k], s.from_outside = true;
       s.ng = constant(dv(*ax[k]) * (lo(dl[k].v) > 0 ? -1.0 : 1.0));
     } else if (max_near_hi < 0 && unique_min(farv, k) && positive(farv[k])) {
