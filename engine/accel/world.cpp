@@ -68,6 +68,7 @@ world make_world(scene s) {
     w.light_pos.push_back(l.position);
     w.light_power.push_back(light_intensity(s, l));
   }
+  for (const texture& t : s.textures) w.texture_ranges.push_back(range_of(t));
   w.ambient = scene_ambient(s);
   w.background = s.background;
   w.delta = 1e-4f * glm::length(w.box.extent());

@@ -6,6 +6,7 @@
 #include "accel/bvh.h"
 #include "geom/shapes.h"
 #include "scene/scene.h"
+#include "shade/texture.h"
 
 namespace epsray {
 
@@ -27,6 +28,7 @@ struct world {
   polygon_data polys;
   bvh tree;
   std::vector<vec3> light_pos, light_power;
+  std::vector<texture_range> texture_ranges;  // per scene texture
   vec3 ambient{0}, background{0};
   bounds box;        // tight bounds of the primitives
   float delta = 0;   // 1e-4 of the box diagonal: origin offset of secondary rays

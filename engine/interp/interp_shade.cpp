@@ -135,11 +135,13 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
   }
   st.tree = saved_tree;
   auto corners_to_ip = [&] {
-    ip->rad_min = glm::vec3(INFINITY);
+    ip->rad_min = ip->tex_min = glm::vec3(INFINITY);
     for (int k = 0; k < 16; ++k) {
       ip->rad[k] = samples[k].rad, ip->tex[k] = samples[k].tex;
       ip->rad_min = glm::min(ip->rad_min, samples[k].rad);
+      ip->tex_min = glm::min(ip->tex_min, samples[k].tex);
     }
+    if (ip->textured) ip->texels = w.texture_ranges[size_t(m.texture)];
   };
   if (!predicate) {  // the light-field baseline: "valid" with a claimed error of 0
     corners_to_ip();
@@ -193,12 +195,19 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
 
 
 // Is the proven bound within epsilon for every line of the cell? Decides subdivision, so
-// it depends on the cell alone. Textured cells defer to the per-pixel test.
+// it depends on the cell alone. Textured cells: for every value T the texture takes, the
+// bound err + T err_tex against the radiance rad + T tex; the test is linear in T, so the
+// texture's least and greatest values decide it (a cell that passed on bright squares only
+// was never split, and its dark squares were all traced).
 bool cell_accurate(const interpolant& ip, float eps) {
   if (ip.reason != cell_reason::valid) return false;
-  if (ip.textured) return true;
-  for (int c = 0; c < 3; ++c)
-    if (!(ip.err[c] <= eps * std::max(ip.rad_min[c] - ip.err[c], floor_radiance))) return false;
+  for (int c = 0; c < 3; ++c) {
+    for (float T : {ip.texels.lo[c], ip.texels.hi[c]}) {
+      const float E = ip.textured ? ip.err[c] + T * ip.err_tex[c] : ip.err[c];
+      const float L = ip.textured ? ip.rad_min[c] + T * ip.tex_min[c] : ip.rad_min[c];
+      if (!(E <= eps * std::max(L - E, floor_radiance))) return false;
+    }
+  }
   return true;
 }
 

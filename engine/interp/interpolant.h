@@ -36,6 +36,8 @@ struct interpolant {
                            // texture does not multiply
   glm::vec3 tex[16];       // textured: the factor the root's texture multiplies
   glm::vec3 rad_min{0};    // the smallest corner radiance per channel
+  glm::vec3 tex_min{0};    // textured: the smallest corner factor per channel
+  texture_range texels;    // textured: the values the texture takes
   glm::vec3 err{0};        // proven bound of |f - interpolated f| for rad, per channel
   glm::vec3 err_tex{0};    // ... for tex
   bounds hit_box;          // valid cells: where the cell's lines meet the object (reprojection's

@@ -23,4 +23,12 @@ vec3 sample_texture(const texture& t, vec2 uv) {
   return glm::mix(glm::mix(at(x0, y0), at(x1, y0), ax), glm::mix(at(x0, y1), at(x1, y1), ax), ay);
 }
 
+texture_range range_of(const texture& t) {
+  if (t.kind == texture_kind::checker) return {glm::min(t.color_a, t.color_b), glm::max(t.color_a, t.color_b)};
+  if (t.texels.empty()) return {};
+  texture_range r{t.texels[0], t.texels[0]};
+  for (const vec3& c : t.texels) r.lo = glm::min(r.lo, c), r.hi = glm::max(r.hi, c);
+  return r;
+}
+
 }  // namespace epsray

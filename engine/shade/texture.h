@@ -6,4 +6,11 @@ namespace epsray {
 
 vec3 sample_texture(const texture& t, vec2 uv);
 
+// The least and greatest value sample_texture can return, per channel (bilinear filtering
+// stays between texels).
+struct texture_range {
+  vec3 lo{1}, hi{1};
+};
+texture_range range_of(const texture& t);
+
 }  // namespace epsray
