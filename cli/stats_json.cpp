@@ -38,6 +38,7 @@ void write_stats_json(const run_record& r, const std::string& path) {
                            {"path_ms", {{"fast", f.path_ms.fast}, {"interp", f.path_ms.interp}, {"base", f.path_ms.base}}},
                            {"reproject_ms", f.reproject_ms},
                            {"deferred_pixels", f.pixels.deferred},
+                           {"deferred_ms", f.path_ms.deferred},
                            {"memory_bytes", f.memory_bytes}};
     if (f.verified)
       fj["verify"] = {{"max_rel_err", f.max_rel_err}, {"violations", f.violations}, {"p999_rel_err", f.p999_rel_err},

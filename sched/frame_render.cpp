@@ -45,6 +45,7 @@ struct tile_totals {
   ray_counts rays;
   pixel_counts pixels;
   std::uint64_t ticks_fast = 0, ticks_interp = 0, ticks_base = 0;
+  std::uint64_t ticks_deferred = 0;  // within fast and interp
   std::vector<cell_ref> cells;  // full: the cells this tile's pixels used, for the next frame
 };
 
@@ -82,8 +83,9 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
       out.at(x, y) = r.L;
       if (reasons) reasons->at(x, y) = reason_colour(r.reason);
       if (rp && r.cell.node) note_cell(tot.cells, r.cell);
-      if (r.cell.ip && (r.cell.ip->deferred | r.cell.ip->deferred_rays)) ++tot.pixels.deferred;
+      const bool deferring = r.cell.ip && (r.cell.ip->deferred | r.cell.ip->deferred_rays);
       const std::uint64_t c1 = cycle_now();
+      if (deferring) ++tot.pixels.deferred, tot.ticks_deferred += c1 - c0;
       switch (r.path) {
         case pixel_path::fast: tot.pixels.fast += 1, tot.ticks_fast += c1 - c0; break;
         case pixel_path::interp: tot.pixels.interp += 1, tot.ticks_interp += c1 - c0; break;
@@ -223,6 +225,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     out.rays += t.rays, out.pixels += t.pixels;
     out.path_ms.fast += double(t.ticks_fast) / tick_ms;
     out.path_ms.interp += double(t.ticks_interp) / tick_ms, out.path_ms.base += double(t.ticks_base) / tick_ms;
+    out.path_ms.deferred += double(t.ticks_deferred) / tick_ms;
   }
   if (p.mode == render_mode::full) {
     std::vector<cell_ref> next;

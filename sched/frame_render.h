@@ -37,6 +37,7 @@ struct pixel_counts {
 // the pixels of each path).
 struct path_times {
   double fast = 0, interp = 0, base = 0;  // ms
+  double deferred = 0;  // of fast + interp: the pixels that cast per-pixel rays (pixel_counts::deferred)
 };
 
 // What full mode carries from one frame to the next besides the linetrees: the cells that

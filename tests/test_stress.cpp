@@ -118,6 +118,14 @@ class Stress : public testing::Test {
       s.fast = f["pixels"]["fast"], s.interp = f["pixels"]["interp"], s.base = f["pixels"]["base"];
       s.deferred = f["deferred_pixels"];
       EXPECT_EQ(s.all(), std::uint64_t(w) * std::uint64_t(h)) << "every pixel is counted once";
+      EXPECT_LE(s.deferred, s.fast + s.interp) << "only fast and interpolated pixels defer";
+      // The thread time of the pixels that cast per-pixel rays is part of fast + interp's.
+      const double deferred_ms = f["deferred_ms"], fi_ms = double(f["path_ms"]["fast"]) + double(f["path_ms"]["interp"]);
+      EXPECT_GE(deferred_ms, 0.0);
+      EXPECT_LE(deferred_ms, fi_ms * (1 + 1e-9) + 1e-9);
+      if (s.deferred == 0) {
+        EXPECT_EQ(deferred_ms, 0.0);
+      }
       if (c.mode == "interp") {
         EXPECT_EQ(s.fast, 0u) << "no span filling without reprojection";
       }

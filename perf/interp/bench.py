@@ -10,7 +10,9 @@ epsilon, linetree memory, and the cost of a pixel on each path relative to a tra
 from the thread time each path took (--stats path_ms):
     c_path = (path_ms[path] / n_path) / (base walk's path_ms / (W * H))
 once for the cold frame (the interpolate path pays for building and proving cells) and
-once for the warm ones (a visibility ray, a lookup and the interpolation).
+once for the warm ones (a visibility ray, a lookup and the interpolation), the warm one
+also split between the pixels whose cell left lights or secondary rays to per-pixel rays
+(--stats deferred_pixels, deferred_ms) and those with nothing deferred.
 """
 import argparse
 import os
@@ -84,14 +86,23 @@ def main():
                 px = sum(g["pixels"][path] for g in frames)
                 return sum(g["path_ms"][path] for g in frames) / px / t_px if px else float("nan")
 
+            def split_cost(frames, deferring):
+                """Warm interpolated pixels with per-pixel rays (deferring) or with none."""
+                px = sum(g["deferred_pixels"] if deferring else g["pixels"]["interp"] - g["deferred_pixels"]
+                         for g in frames)
+                ms = sum(g["deferred_ms"] if deferring else g["path_ms"]["interp"] - g["deferred_ms"] for g in frames)
+                return ms / px / t_px if px else float("nan")
+
             worst = max(last["frames"], key=lambda g: g["verify"]["max_rel_err"])["verify"]
             over = sum(g["verify"]["violations"] for g in last["frames"])
             rows.append((name, eps, base_ms, cold_ms, warm_ms, base_ms / warm_ms, n_int / n,
                          f.get("deferred_pixels", 0) / n, cost(last["frames"][:1], "interp"), cost(last["frames"][1:], "interp"),
+                         split_cost(last["frames"][1:], False), split_cost(last["frames"][1:], True),
                          cost(last["frames"][1:], "base"), worst["max_rel_err"], f["verify"]["p999_rel_err"], over,
                          f["memory_bytes"] / 1e6))
             print("%-12s eps %-5g base %7.1f ms cold %8.1f ms warm %7.1f ms base/warm %5.2f interp %5.1f%% "
-                  "(per-pixel rays %5.1f%%) interp cost cold %6.2f warm %5.2f, traced %5.2f max %.4f p99.9 %.4f "
+                  "(per-pixel rays %5.1f%%) interp cost cold %6.2f warm %5.2f (nothing deferred %5.2f, per-pixel rays "
+                  "%5.2f), traced %5.2f max %.4f p99.9 %.4f "
                   "over %d mem %.1f MB" % (*rows[-1][:6], 100 * rows[-1][6], 100 * rows[-1][7], *rows[-1][8:]),
                   flush=True)
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
@@ -99,13 +110,13 @@ def main():
         out.write("# Interpolants vs base (%s, %d threads, %d rep(s), median frame ms; %s)\n\n" %
                   (a.size, a.threads, a.reps, time.strftime("%Y-%m-%d %H:%M")))
         out.write("| scene | eps | base ms | interp cold ms | interp warm ms | base/warm | interpolated | "
-                  "of which with per-pixel rays | cost of an interpolated pixel, cold | warm | "
-                  "cost of a traced pixel in interp mode, warm | max err | 99.9% err | pixels over eps | memory MB |\n")
-        out.write("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
+                  "of which with per-pixel rays | cost of an interpolated pixel, cold | warm | warm, nothing deferred | "
+                  "warm, with per-pixel rays | cost of a traced pixel in interp mode, warm | max err | 99.9% err | "
+                  "pixels over eps | memory MB |\n")
+        out.write("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
         for r in rows:
-            out.write("| %s | %g | %.1f | %.1f | %.1f | %.2f | %.1f%% | %.1f%% | %.2f | %.2f | %.2f | %.4f | %.4f | %d | "
-                      "%.1f |\n" % (r[0], r[1], r[2], r[3], r[4], r[5], 100 * r[6], 100 * r[7], r[8], r[9], r[10],
-                                     r[11], r[12], r[13], r[14]))
+            out.write("| %s | %g | %.1f | %.1f | %.1f | %.2f | %.1f%% | %.1f%% | %.2f | %.2f | %.2f | %.2f | %.2f | %.4f | "
+                      "%.4f | %d | %.1f |\n" % (r[0], r[1], r[2], r[3], r[4], r[5], 100 * r[6], 100 * r[7], *r[8:]))
     print("wrote", a.out)
     return 0
 

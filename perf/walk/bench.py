@@ -60,8 +60,9 @@ def main():
                  (os.path.basename(a.scene), n_frames, os.path.basename(a.path), a.size, a.eps, a.threads, a.reps,
                   time.strftime("%Y-%m-%d %H:%M")))
     lines.append("| mode | median frame ms | base / mode | fast | interp | base-traced | with per-pixel rays | "
-                 "cost fast | cost interp | cost base | reprojection ms | memory MB (first / middle / last) |")
-    lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+                 "cost fast | cost interp | cost base | cost of fast + interp, nothing deferred | "
+                 "with per-pixel rays | reprojection ms | memory MB (first / middle / last) |")
+    lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
     for m in modes:
         fs = frames(m)
         px = {k: sum(f["pixels"][k] for f in fs) for k in ("fast", "interp", "base")}
@@ -71,11 +72,16 @@ def main():
         mem = [f["memory_bytes"] / 1e6 for f in runs[m][0]["frames"]]
         rep = statistics.median(f.get("reproject_ms", 0) for f in fs)
         deferred = sum(f.get("deferred_pixels", 0) for f in fs)
-        lines.append("| %s | %.1f | %.2f | %.1f%% | %.1f%% | %.1f%% | %.1f%% | %.3f | %.2f | %.2f | %.1f | "
+        # The fast and interp pixels split by whether their cell left rays to each pixel.
+        d_ms = sum(f.get("deferred_ms", 0) for f in fs)
+        rest_px = px["fast"] + px["interp"] - deferred
+        c_rest = (tm["fast"] + tm["interp"] - d_ms) / rest_px / base_px_ms if rest_px else float("nan")
+        c_def = d_ms / deferred / base_px_ms if deferred else float("nan")
+        lines.append("| %s | %.1f | %.2f | %.1f%% | %.1f%% | %.1f%% | %.1f%% | %.3f | %.2f | %.2f | %.2f | %.2f | %.1f | "
                      "%.1f / %.1f / %.1f |" %
                      (m, med[m], med["base"] / med[m], 100 * px["fast"] / allpx, 100 * px["interp"] / allpx,
                       100 * px["base"] / allpx, 100 * deferred / allpx, cost["fast"], cost["interp"], cost["base"],
-                      rep, mem[0], mem[len(mem) // 2], mem[-1]))
+                      c_rest, c_def, rep, mem[0], mem[len(mem) // 2], mem[-1]))
     worst = max(f["verify"]["max_rel_err"] for f in checked["frames"])
     over = sum(f["verify"]["violations"] for f in checked["frames"])
     lines.append("")
