@@ -201,12 +201,14 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
 // was never split, and its dark squares were all traced).
 bool cell_accurate(const interpolant& ip, float eps) {
   if (ip.reason != cell_reason::valid) return false;
+  auto passes = [&](float E, float L) { return E <= eps * std::max(L - E, floor_radiance); };
   for (int c = 0; c < 3; ++c) {
-    for (float T : {ip.texels.lo[c], ip.texels.hi[c]}) {
-      const float E = ip.textured ? ip.err[c] + T * ip.err_tex[c] : ip.err[c];
-      const float L = ip.textured ? ip.rad_min[c] + T * ip.tex_min[c] : ip.rad_min[c];
-      if (!(E <= eps * std::max(L - E, floor_radiance))) return false;
+    if (!ip.textured) {
+      if (!passes(ip.err[c], ip.rad_min[c])) return false;
+      continue;
     }
+    for (float T : {ip.texels.lo[c], ip.texels.hi[c]})
+      if (!passes(ip.err[c] + T * ip.err_tex[c], ip.rad_min[c] + T * ip.tex_min[c])) return false;
   }
   return true;
 }
