@@ -438,10 +438,11 @@ p 6
 }
 
 TEST(Predicate, SoundOnSlantedBoxesColumnsAndCones) {
-  // Solids seen at a slant, where cells inside a face used to be refused as "missed":
-  // a box turned 35 degrees, a capped column and a cone. Their hit tests now enclose each
-  // line's point on the face (boxes) and the discriminant as a difference of squares
-  // (cones); every sampled line of an accepted cell must still hit and stay in the bound.
+  // Soundness of the box and cone enclosures (the entry point's coordinates on the face;
+  // the discriminant as a difference of squares) on solids seen at a slant: a box turned
+  // 35 degrees, a capped column and a cone. Every sampled line of an accepted cell must
+  // hit and stay in the bound, and each solid must have accepted cells. (The case these
+  // enclosures were written for, a far column, is the next test.)
   const char* text = R"(
 v
 from -3 2.2 5
