@@ -8,6 +8,7 @@
 #include <random>
 #include <thread>
 
+#include "interp/cell_screen.h"
 #include "interp/interp_shade.h"
 #include "interp/line_space.h"
 #include "interp/linetree.h"
@@ -165,6 +166,79 @@ TEST(Interpolant, TexturedCellIsAccurateOnlyWhenEveryTexelPasses) {
   ip.reason = cell_reason::nonlinear;
   ip.texels.lo = glm::vec3(0.8f);
   EXPECT_FALSE(cell_accurate(ip, 0.05f));
+}
+
+// A wall 3 units behind a facepair plane the eye lies on: the camera of the art room's
+// view from outside its front wall. Cells' front faces cross the eye's plane there.
+constexpr const char* eye_on_front_plane = R"(
+v
+from 0 1.2 6
+at 0 0.5 0
+up 0 1 0
+angle 40
+hither 0.01
+resolution 200 150
+l 0 2 8
+f 0.8 0.8 0.7 0.8 0 0 0 1
+p 4
+-6 0 3
+6 0 3
+6 4.5 3
+-6 4.5 3
+)";
+
+TEST(CellScreen, BoundedByEitherFaceAndHoldsEveryPixelOfTheCell) {
+  world w = world_of(eye_on_front_plane);
+  const camera cam = make_camera(w.sc.view, 200, 150);
+  linetree_set trees(w.prim_bounds);
+  linetree& lt = trees.get(0, facepair_of(cam.w));
+  ASSERT_TRUE(std::fabs(lt.fp.front - cam.origin.z) < 1e-3f) << "the scene must put the eye on the front plane";
+  // Cells at depth 3 along each sampled pixel's line: every pixel whose eye line a cell
+  // holds lies in the cell's raster rectangle, and a cell with one face clear of the eye's
+  // plane has a bounded box.
+  int one_face = 0;
+  for (int y = 0; y < cam.height; y += 7) {
+    for (int x = 0; x < cam.width; x += 7) {
+      const glm::vec3 d = eye_direction(cam, float(x), float(y));
+      float x4[4];
+      line_coords(lt.fp, cam.origin, d, x4);
+      if (!holds(lt.root, x4)) continue;
+      lt_node* n = &lt.root;
+      for (int k = 0; k < 3; ++k) n = &subdivide(*n)[child_index(*n, split_all, x4)];
+      const screen_box b = cell_screen_box(cam, lt.fp, *n);
+      if (b.bounded && !b.empty()) ++one_face;
+      const pixel_rect r = raster_rect(cam, b);
+      for (int py = 0; py < cam.height; ++py) {
+        for (int px = 0; px < cam.width; ++px) {
+          float p4[4];
+          line_coords(lt.fp, cam.origin, eye_direction(cam, float(px), float(py)), p4);
+          if (!holds(*n, p4)) continue;
+          ASSERT_TRUE(px >= r.x0 && px < r.x1 && py >= r.y0 && py < r.y1)
+              << "pixel " << px << "," << py << " of the cell lies outside its box";
+        }
+      }
+    }
+  }
+  EXPECT_GT(one_face, 50);
+}
+
+TEST(InterpMode, EyeOnAFacepairPlaneDoesNotSplitCellsToTheDepthLimit) {
+  // Before either face could bound a cell's box, every cell crossing the eye's plane looked
+  // infinitely large and was split down to max_depth: 15 corner lines per pixel and 720 MB
+  // for this view at 400x300.
+  world w = world_of(eye_on_front_plane);
+  linetree_set trees(w.prim_bounds);
+  workers pool(2);
+  frame_params p;
+  p.mode = render_mode::interp;
+  p.interp.eps = 0.05f;
+  p.trees = &trees;
+  const camera cam = make_camera(w.sc.view, 200, 150);
+  const frame_result fr = render_frame(pool, w, cam, p);
+  const std::uint64_t pixels = 200u * 150u;
+  EXPECT_LT(fr.rays.eye, 3 * pixels) << "eye rays and the cells' corner lines";
+  EXPECT_GT(fr.pixels.interp, pixels / 2);
+  EXPECT_EQ(verify_frame(pool, w, cam, fr.img, 0.05f).violations, 0u);
 }
 
 TEST(InterpMode, EpsZeroReproducesBaseExactly) {

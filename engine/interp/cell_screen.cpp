@@ -7,12 +7,14 @@
 namespace epsray {
 
 screen_box cell_screen_box(const camera& cam, const facepair& fp, const lt_node& n) {
-  float x0[2] = {INFINITY, INFINITY}, x1[2] = {-INFINITY, -INFINITY};
-  float y0[2] = {INFINITY, INFINITY}, y1[2] = {-INFINITY, -INFINITY};
+  float x0[2] = {-INFINITY, -INFINITY}, x1[2] = {INFINITY, INFINITY};
+  float y0[2] = {-INFINITY, -INFINITY}, y1[2] = {INFINITY, INFINITY};
+  bool bounded[2] = {true, true};
   screen_box out;
   for (int face = 0; face < 2; ++face) {
     bool behind = false;
-    for (int k = 0; k < 4; ++k) {
+    float fx0 = INFINITY, fx1 = -INFINITY, fy0 = INFINITY, fy1 = -INFINITY;
+    for (int k = 0; k < 4 && bounded[face]; ++k) {
       float a = (k & 1) ? n.hi[2 * face] : n.lo[2 * face];
       float b = (k & 2) ? n.hi[2 * face + 1] : n.lo[2 * face + 1];
       glm::vec3 p = face == 0 ? front_point(fp, a, b) : back_point(fp, a, b);
@@ -23,14 +25,23 @@ screen_box cell_screen_box(const camera& cam, const facepair& fp, const lt_node&
       // crossing the eye's plane has no bounded projection.
       if (k == 0) behind = z < 0;
       if (z == 0 || (z < 0) != behind) {
-        out.bounded = false;
-        return out;
+        bounded[face] = false;
+        break;
       }
       if (behind) q = -q, z = -z;
       float px = glm::dot(q, cam.r) / (z * cam.step), py = glm::dot(q, cam.u) / (z * cam.step);
-      x0[face] = std::min(x0[face], px), x1[face] = std::max(x1[face], px);
-      y0[face] = std::min(y0[face], py), y1[face] = std::max(y1[face], py);
+      fx0 = std::min(fx0, px), fx1 = std::max(fx1, px);
+      fy0 = std::min(fy0, py), fy1 = std::max(fy1, py);
     }
+    if (bounded[face]) x0[face] = fx0, x1[face] = fx1, y0[face] = fy0, y1[face] = fy1;
+  }
+  // Every eye ray of the cell crosses both faces, so it lies in each bounded face's
+  // projection: one bounded face suffices (near the eye the slab of a floor or a wall
+  // holds it, and one face or the other crosses the eye's plane for many cells, which
+  // would otherwise look infinitely large and be split to the depth limit).
+  if (!bounded[0] && !bounded[1]) {
+    out.bounded = false;
+    return out;
   }
   out.x0 = std::max(x0[0], x0[1]), out.x1 = std::min(x1[0], x1[1]);
   out.y0 = std::max(y0[0], y0[1]), out.y1 = std::min(y1[0], y1[1]);
