@@ -228,17 +228,12 @@ TEST(InterpMode, EyeOnAFacepairPlaneDoesNotSplitCellsToTheDepthLimit) {
   // for this view at 400x300.
   world w = world_of(eye_on_front_plane);
   linetree_set trees(w.prim_bounds);
-  workers pool(2);
-  frame_params p;
-  p.mode = render_mode::interp;
-  p.interp.eps = 0.05f;
-  p.trees = &trees;
-  const camera cam = make_camera(w.sc.view, 200, 150);
-  const frame_result fr = render_frame(pool, w, cam, p);
+  const frame_result fr = render(w, render_mode::interp, 0.05f, 200, 150, &trees);
   const std::uint64_t pixels = 200u * 150u;
   EXPECT_LT(fr.rays.eye, 3 * pixels) << "eye rays and the cells' corner lines";
   EXPECT_GT(fr.pixels.interp, pixels / 2);
-  EXPECT_EQ(verify_frame(pool, w, cam, fr.img, 0.05f).violations, 0u);
+  workers pool(2);
+  EXPECT_EQ(verify_frame(pool, w, make_camera(w.sc.view, 200, 150), fr.img, 0.05f).violations, 0u);
 }
 
 TEST(InterpMode, EpsZeroReproducesBaseExactly) {
