@@ -86,7 +86,11 @@ bool negative(const djet& x) { return hi(x.v) < 0; }
 // Can a segment leaving primitive q's surface (towards its facing side) meet q again?
 // Never for a plane; never for a convex solid left from the outside. An open cone is the
 // side of a convex frustum, so the same holds for it.
-bool cannot_reenter(shape_kind k, bool from_outside) {
+// A patch is not: its rays leave along the interpolated shading normal, which may point
+// through its own plane, so a shadow or reflected ray may meet the patch itself (the base
+// tracer then finds it blocked by its own surface).
+bool cannot_reenter(shape_kind k, bool from_outside, bool patch) {
+  if (patch) return false;
   if (k == shape_kind::triangle || k == shape_kind::polygon || k == shape_kind::disk) return true;
   return (k == shape_kind::sphere || k == shape_kind::box || k == shape_kind::cone) && from_outside;
 }
@@ -611,7 +615,7 @@ struct evaluator {
         continue;
       }
       bounds lbox{w.light_pos[j], w.light_pos[j]};
-      const int skip = cannot_reenter(kind, sf.from_outside) ? prim : -1;
+      const int skip = cannot_reenter(kind, sf.from_outside, pr.kind == prim_kind::patch) ? prim : -1;
       if (deferrable ? !shaft_empty(above_box, lbox, skip, -1) : !shaft_clear(above_box, lbox, skip, -1)) {
         if (!defer_or(cell_reason::blocked)) return false;
         continue;
@@ -633,7 +637,7 @@ struct evaluator {
         acc[c] = acc[c] + spec * (I[c] * double(m.ks));
       }
     }
-    const bool leave_ok = cannot_reenter(kind, sf.from_outside);
+    const bool leave_ok = cannot_reenter(kind, sf.from_outside, pr.kind == prim_kind::patch);
     if (from < 0 && deferred) list_shadow_candidates(above_box, leave_ok ? prim : -1);
     // The eye ray's reflected and transmitted subtrees may be left to per-pixel rays (where
     // allowed): those the corners disagree on are, and so is any this cell cannot bound.
