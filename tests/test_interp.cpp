@@ -138,12 +138,14 @@ p 4
 -4 -1.2 4
 )";
 
-frame_result render(const world& w, render_mode mode, float eps, int width, int height, linetree_set* trees) {
+frame_result render(const world& w, render_mode mode, float eps, int width, int height, linetree_set* trees,
+                    bool reasons = false) {
   workers pool(2);
   frame_params p;
   p.mode = mode;
   p.interp.eps = eps;
   p.trees = trees;
+  p.reasons = reasons;
   return render_frame(pool, w, make_camera(w.sc.view, width, height), p);
 }
 
@@ -601,14 +603,9 @@ f 0.85 0.83 0.79 0.8 0 0 0 1
 cc 4.3 0.25 -3.5 0.22 4.3 3.75 -3.5 0.22
 )");
   linetree_set trees(w.prim_bounds);
-  workers pool(2);
-  frame_params p;
-  p.mode = render_mode::interp;
-  p.interp.eps = 0.05f;
-  p.trees = &trees;
-  p.reasons = true;
+  const frame_result fr = render(w, render_mode::interp, 0.05f, 200, 150, &trees, true);
   const camera cam = make_camera(w.sc.view, 200, 150);
-  frame_result fr = render_frame(pool, w, cam, p);
+  workers pool(2);
   const int column = w.shape_of[1];
   const double missed = share_with_reason(w, cam, fr.reasons, column, pixel_reason::missed);
   std::printf("column pixels refused as missed: %.1f%%\n", 100 * missed);

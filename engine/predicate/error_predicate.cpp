@@ -340,12 +340,11 @@ struct evaluator {
     }
     double max_near_hi = std::max({hi(nearv[0].v), hi(nearv[1].v), hi(nearv[2].v)});
     double min_far_lo = std::min({lo(farv[0].v), lo(farv[1].v), lo(farv[2].v)});
+    if (k == 3) {  // else the slabs' ranges: a unique entry face, or the eye inside the box
+      if (!(max_near_hi < min_far_lo)) return reject(cell_reason::missed);
+      if (!unique_max(nearv, k) || !positive(nearv[k])) k = 3;
+    }
     if (k < 3) {
-      s.t = nearv[k], s.from_outside = true;
-      s.ng = constant(dv(*ax[k]) * (lo(dl[k].v) > 0 ? -1.0 : 1.0));
-    } else if (!(max_near_hi < min_far_lo)) {
-      return reject(cell_reason::missed);
-    } else if (unique_max(nearv, k) && positive(nearv[k])) {
       s.t = nearv[k], s.from_outside = true;
       s.ng = constant(dv(*ax[k]) * (lo(dl[k].v) > 0 ? -1.0 : 1.0));
     } else if (max_near_hi < 0 && unique_min(farv, k) && positive(farv[k])) {
