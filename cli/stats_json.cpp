@@ -39,7 +39,8 @@ void write_stats_json(const run_record& r, const std::string& path) {
                            {"reproject_ms", f.reproject_ms},
                            {"deferred_pixels", f.pixels.deferred},
                            {"deferred_ms", f.path_ms.deferred},
-                           {"memory_bytes", f.memory_bytes}};
+                           {"memory_bytes", f.memory_bytes},
+                           {"linetree_bytes", f.linetree_bytes}};
     if (f.verified)
       fj["verify"] = {{"max_rel_err", f.max_rel_err}, {"violations", f.violations}, {"p999_rel_err", f.p999_rel_err},
                      {"mean_rel_err", f.mean_rel_err}};

@@ -12,7 +12,7 @@ struct frame_record {
   double ms = 0;
   pixel_counts pixels;
   ray_counts rays;
-  std::uint64_t memory_bytes = 0;
+  std::uint64_t memory_bytes = 0, linetree_bytes = 0;
   path_times path_ms;  // thread time per path
   double reproject_ms = 0;
   bool verified = false;

@@ -68,7 +68,7 @@ int run_walk(const cli_options& o) {
     const camera cam = make_camera(path.frames[size_t(k)], width, height);
     frame_result fr = render_frame(pool, w, cam, fp);
     check_finite(fr.img);
-    frame_record r{k, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.path_ms, fr.reproject_ms};
+    frame_record r{k, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms};
     if (o.verify) {
       verify_result vr = verify_frame(pool, w, cam, fr.img, o.eps);
       r.verified = true, r.max_rel_err = vr.max_rel_err, r.p999_rel_err = vr.p999_rel_err, r.mean_rel_err = vr.mean_rel_err;
@@ -89,20 +89,20 @@ int run_walk(const cli_options& o) {
     std::vector<double> ms;
     pixel_counts px;
     double max_err = 0;
-    std::uint64_t over = 0, mem = 0;
+    std::uint64_t over = 0, mem = 0, lt_mem = 0;
     for (const frame_record& r : rec.frames) {
       ms.push_back(r.ms), px += r.pixels, max_err = std::max(max_err, r.max_rel_err), over += r.violations;
-      mem = std::max<std::uint64_t>(mem, r.memory_bytes);
+      mem = std::max<std::uint64_t>(mem, r.memory_bytes), lt_mem = std::max<std::uint64_t>(lt_mem, r.linetree_bytes);
     }
     std::sort(ms.begin(), ms.end());
     const double all = double(px.fast + px.interp + px.base);
     std::printf("%s: %d frames at %dx%d, mode %s, eps %g, %d threads\n", o.scene.c_str(), count, width, height,
                 mode_name(o.mode), double(o.eps), threads);
     std::printf("median frame %.1f ms, total %.1f ms; pixels fast %.1f%% interp %.1f%% base %.1f%% "
-                "(with per-pixel rays %.1f%%); memory %.1f MB\n",
+                "(with per-pixel rays %.1f%%); memory %.1f MB (linetrees %.1f MB)\n",
                 ms.empty() ? 0.0 : ms[ms.size() / 2], rec.total_ms, 100 * double(px.fast) / all,
                 100 * double(px.interp) / all, 100 * double(px.base) / all, 100 * double(px.deferred) / all,
-                double(mem) / 1e6);
+                double(mem) / 1e6, double(lt_mem) / 1e6);
     if (o.verify)
       std::printf("verify: max error %.4g, %llu pixels over eps %g\n", max_err, (unsigned long long)over,
                   double(o.eps));

@@ -238,8 +238,8 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   for (const ray_tree_store& t : trees) out.trees.append(t);
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   // After the clock: measuring linetree memory walks every node.
-  out.memory_bytes = out.img.pixels.capacity() * sizeof(glm::vec3) + out.trees.bytes() +
-                     (p.trees ? p.trees->bytes() : 0);
+  out.linetree_bytes = p.trees ? p.trees->bytes() : 0;
+  out.memory_bytes = out.img.pixels.capacity() * sizeof(glm::vec3) + out.trees.bytes() + out.linetree_bytes;
   return out;
 }
 

@@ -72,6 +72,7 @@ struct frame_result {
   std::uint64_t reprojected_cells = 0, trusted_cells = 0;
   path_times path_ms;
   std::uint64_t memory_bytes = 0;  // image, ray trees, linetrees
+  std::uint64_t linetree_bytes = 0;  // linetrees, their interpolants, the shared samples and ray trees
   ray_tree_store trees;
 };
 

@@ -260,6 +260,7 @@ TEST_F(Cli, GoodRunWritesImagesAndStats) {
             n);
   EXPECT_TRUE(f.at("memory_bytes").is_number_unsigned());
   EXPECT_GT(f.at("memory_bytes").get<std::uint64_t>(), 0u);
+  EXPECT_TRUE(f.at("linetree_bytes").is_number_unsigned());
   EXPECT_EQ(f.at("rays").at("eye").get<std::uint64_t>(), n);
   EXPECT_EQ(f.at("rays").at("reflect").get<std::uint64_t>(), ref.rays.reflect);
   EXPECT_EQ(f.at("rays").at("refract").get<std::uint64_t>(), ref.rays.refract);

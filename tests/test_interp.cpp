@@ -152,21 +152,22 @@ frame_result render(const world& w, render_mode mode, float eps, int width, int 
 TEST(Interpolant, TexturedCellIsAccurateOnlyWhenEveryTexelPasses) {
   // Radiance rad + T tex with T in [0.1, 0.9] per channel (a checker's two squares).
   interpolant ip;
-  ip.textured = true;
-  ip.texels = {glm::vec3(0.1f), glm::vec3(0.9f)};
-  ip.rad_min = glm::vec3(0), ip.tex_min = glm::vec3(0.5f);
-  ip.err_tex = glm::vec3(0.01f);
+  ip.tx = std::make_unique<textured_terms>();
+  textured_terms& tx = *ip.tx;
+  tx.texels = {glm::vec3(0.1f), glm::vec3(0.9f)};
+  ip.rad_min = glm::vec3(0), tx.tex_min = glm::vec3(0.5f);
+  tx.err_tex = glm::vec3(0.01f);
   EXPECT_TRUE(cell_accurate(ip, 0.05f));  // bright: 0.009 of 0.45; dark: 0.001 of 0.05
   // An error in the untextured part: still small against the bright squares' 0.45, but
   // 0.011 of the dark squares' 0.05 is not within 5%: the cell must be split.
   ip.err = glm::vec3(0.01f);
   EXPECT_FALSE(cell_accurate(ip, 0.05f));
-  ip.texels.lo = glm::vec3(0.8f);  // darkest square 0.4: 0.018 <= 0.05 * 0.382
+  tx.texels.lo = glm::vec3(0.8f);  // darkest square 0.4: 0.018 <= 0.05 * 0.382
   EXPECT_TRUE(cell_accurate(ip, 0.05f));
-  ip.texels.lo.g = 0.1f;  // any channel decides
+  tx.texels.lo.g = 0.1f;  // any channel decides
   EXPECT_FALSE(cell_accurate(ip, 0.05f));
   ip.reason = cell_reason::nonlinear;
-  ip.texels.lo = glm::vec3(0.8f);
+  tx.texels.lo = glm::vec3(0.8f);
   EXPECT_FALSE(cell_accurate(ip, 0.05f));
 }
 

@@ -53,7 +53,7 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
                                                interp_scratch& scratch, bool predicate) {
   auto ip = std::make_unique<interpolant>();
   const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
-  ip->textured = m.texture >= 0;
+  if (m.texture >= 0) ip->tx = std::make_unique<textured_terms>();
   line_key keys[16];
   line_sample samples[16];
   const ray_tree* trees[16];
@@ -117,12 +117,12 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     tree.clear();
     st.tree = &tree;
     line_sample& s = samples[k];
-    if (ip->textured) st.root_tex_factor = &s.tex, st.root_uv = &s.uv;
+    if (ip->textured()) st.root_tex_factor = &s.tex, st.root_uv = &s.uv;
     st.root_ndl = s.ndl, st.root_spec = s.spec, st.root_rays = s.rays;
     s.rad = shade_hit(w, lines[k], hit{ts[k], prim}, 1, st);
     st.root_tex_factor = nullptr, st.root_uv = nullptr, st.root_ndl = nullptr, st.root_spec = nullptr;
     st.root_rays = nullptr;
-    if (ip->textured) s.rad -= s.tex * sample_texture(w.sc.textures[size_t(m.texture)], s.uv);
+    if (ip->textured()) s.rad -= s.tex * sample_texture(w.sc.textures[size_t(m.texture)], s.uv);
     s.hit = true;
     s.tree = cache.trees.canonical(tree);
     if (s.tree) cache.lines.insert(keys[k], s);  // uncacheable trees stay private to this build
@@ -135,13 +135,16 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
   }
   st.tree = saved_tree;
   auto corners_to_ip = [&] {
-    ip->rad_min = ip->tex_min = glm::vec3(INFINITY);
+    ip->rad_min = glm::vec3(INFINITY);
     for (int k = 0; k < 16; ++k) {
-      ip->rad[k] = samples[k].rad, ip->tex[k] = samples[k].tex;
+      ip->rad[k] = samples[k].rad;
       ip->rad_min = glm::min(ip->rad_min, samples[k].rad);
-      ip->tex_min = glm::min(ip->tex_min, samples[k].tex);
     }
-    if (ip->textured) ip->texels = w.texture_ranges[size_t(m.texture)];
+    if (textured_terms* tx = ip->tx.get()) {
+      tx->tex_min = glm::vec3(INFINITY);
+      for (int k = 0; k < 16; ++k) tx->tex[k] = samples[k].tex, tx->tex_min = glm::min(tx->tex_min, samples[k].tex);
+      tx->texels = w.texture_ranges[size_t(m.texture)];
+    }
   };
   if (!predicate) {  // the light-field baseline: "valid" with a claimed error of 0
     corners_to_ip();
@@ -167,10 +170,11 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     return ip;
   }
   cell_query q;
-  q.w = &w, q.prim = prim, q.fp = &fp, q.lo = n.lo, q.hi = n.hi, q.tree = trees[0], q.textured = ip->textured;
+  q.w = &w, q.prim = prim, q.fp = &fp, q.lo = n.lo, q.hi = n.hi, q.tree = trees[0], q.textured = ip->textured();
   q.deferred = deferred, q.deferred_rays = deferred_rays, q.allow_defer = defer;
   cell_bound b = bound_cell(q);
-  ip->reason = b.reason, ip->err = b.err, ip->err_tex = b.err_tex, ip->hit_box = b.hit_box;
+  ip->reason = b.reason, ip->err = b.err, ip->hit_box = b.hit_box;
+  if (ip->tx) ip->tx->err_tex = b.err_tex;
   ip->split = b.reason == cell_reason::valid || b.reason == cell_reason::nonlinear ? b.split : axes_by_extent(n);
   ip->deferred = std::uint8_t(b.deferred), ip->deferred_rays = std::uint8_t(b.deferred_rays);
   ip->shadow = b.shadow;
@@ -184,7 +188,7 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     const glm::vec3 diffuse = w.light_power[j] * (m.kd * m.color), specular = w.light_power[j] * m.ks;
     for (int k = 0; k < 16; ++k) {
       line_sample& s = samples[k];
-      if (ip->textured) s.tex -= diffuse * s.ndl[j];
+      if (ip->textured()) s.tex -= diffuse * s.ndl[j];
       else s.rad -= diffuse * s.ndl[j];
       s.rad -= specular * s.spec[j];
     }
@@ -203,12 +207,13 @@ bool cell_accurate(const interpolant& ip, float eps) {
   if (ip.reason != cell_reason::valid) return false;
   auto passes = [&](float E, float L) { return E <= eps * std::max(L - E, floor_radiance); };
   for (int c = 0; c < 3; ++c) {
-    if (!ip.textured) {
+    if (!ip.textured()) {
       if (!passes(ip.err[c], ip.rad_min[c])) return false;
       continue;
     }
-    for (float T : {ip.texels.lo[c], ip.texels.hi[c]})
-      if (!passes(ip.err[c] + T * ip.err_tex[c], ip.rad_min[c] + T * ip.tex_min[c])) return false;
+    const textured_terms& tx = *ip.tx;
+    for (float T : {tx.texels.lo[c], tx.texels.hi[c]})
+      if (!passes(ip.err[c] + T * tx.err_tex[c], ip.rad_min[c] + T * tx.tex_min[c])) return false;
   }
   return true;
 }
@@ -255,17 +260,17 @@ bool interpolate_line(const world& w, int prim, const lt_node& n, const interpol
   L = interpolate(ip.rad, wts);
   glm::vec3 E = ip.err;
   const bool deferring = (ip.deferred | ip.deferred_rays) != 0;
-  if (!ip.textured && !deferring) return within(L, E, eps);
+  if (!ip.textured() && !deferring) return within(L, E, eps);
   // The pixel's own hit point, found once for its texture and its deferred terms.
   const surface sf = surface_at(w, prim, r, t_hit);
   glm::vec3 T{1};
-  if (ip.textured) {
+  if (ip.textured()) {
     // The texture is looked up at the pixel's own hit point, exactly as the reference does,
     // so only the factor it multiplies carries an error: |T g* - T g| <= T err_tex.
     const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
     T = sample_texture(w.sc.textures[size_t(m.texture)], surface_uv(w, prim, sf.p));
-    L += T * interpolate(ip.tex, wts);
-    E += T * ip.err_tex;
+    L += T * interpolate(ip.tx->tex, wts);
+    E += T * ip.tx->err_tex;
   }
   // Deferred terms are exact: they add radiance, not error.
   if (deferring) L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, ip.deferred_rays, &ip.shadow, st);

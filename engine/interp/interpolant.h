@@ -2,6 +2,7 @@
 // interpolated quadrilinearly, with the error bound the predicate proved for the cell.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <glm/glm.hpp>
 
 #include "geom/bounds.h"
@@ -22,11 +23,19 @@ enum class cell_reason : std::uint8_t {
   nonlinear,      // magenta: the second-order bound exceeds epsilon
 };
 
+// What a textured cell adds: kept apart, since most cells are untextured and a linetree's
+// memory is mostly interpolants (this is 240 of an interpolant's 520 bytes otherwise).
+struct textured_terms {
+  glm::vec3 tex[16];       // the factor the root's texture multiplies, per corner
+  glm::vec3 tex_min{0};    // the smallest corner factor per channel
+  texture_range texels;    // the values the texture takes
+  glm::vec3 err_tex{0};    // proven bound of |f - interpolated f| for tex, per channel
+};
+
 // Corner k of a cell: bit 0 picks a's upper end, bit 1 b's, bit 2 c's, bit 3 d's.
 struct interpolant {
   cell_reason reason = cell_reason::valid;
   bool shared = false;     // a failure_record: owned by no node
-  bool textured = false;
   std::uint8_t split = split_all;  // the axes worth halving when the cell is not accurate
   std::uint8_t deferred = 0;  // bit j: light j is shaded per pixel with a shadow ray, not
                               // interpolated (its visibility changes inside the cell)
@@ -34,14 +43,13 @@ struct interpolant {
   shadow_candidates shadow;        // deferred lights' possible blockers (engine/shade/whitted.h)
   glm::vec3 rad[16];       // radiance but the deferred lights'; textured: the part the
                            // texture does not multiply
-  glm::vec3 tex[16];       // textured: the factor the root's texture multiplies
   glm::vec3 rad_min{0};    // the smallest corner radiance per channel
-  glm::vec3 tex_min{0};    // textured: the smallest corner factor per channel
-  texture_range texels;    // textured: the values the texture takes
   glm::vec3 err{0};        // proven bound of |f - interpolated f| for rad, per channel
-  glm::vec3 err_tex{0};    // ... for tex
   bounds hit_box;          // valid cells: where the cell's lines meet the object (reprojection's
                            // occlusion test from a new eye)
+  std::unique_ptr<textured_terms> tx;  // textured cells only
+  bool textured() const { return tx != nullptr; }
+  std::size_t bytes() const { return sizeof(interpolant) + (tx ? sizeof(textured_terms) : 0); }
 };
 
 // Failed cells keep only why they failed and which axes to halve: one shared, immutable

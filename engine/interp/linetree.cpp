@@ -57,7 +57,7 @@ const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::a
   if (!n.interp.compare_exchange_strong(expected, mine, std::memory_order_acq_rel)) return expected;
   if (mine == made.get()) {
     made.release();
-    if (bytes) bytes->fetch_add(sizeof(interpolant), std::memory_order_relaxed);
+    if (bytes) bytes->fetch_add(mine->bytes(), std::memory_order_relaxed);
   }
   return mine;
 }
@@ -110,7 +110,7 @@ size_t linetree_set::measured_bytes() const {
   size_t total = count_ * sizeof(std::array<std::atomic<linetree*>, 6>) + samples_.bytes();
   std::function<size_t(const lt_node&)> walk = [&](const lt_node& n) -> size_t {
     const interpolant* ip = n.interp.load(std::memory_order_acquire);
-    size_t b = ip && !ip->shared ? sizeof(interpolant) : 0;
+    size_t b = ip && !ip->shared ? ip->bytes() : 0;
     if (const lt_node* k = n.kids.load(std::memory_order_acquire)) {
       const int count = child_count(k[0].parent_axes);
       b += size_t(count) * sizeof(lt_node);
@@ -153,7 +153,7 @@ size_t linetree_set::evict() {
       [&](lt_node& n, int prim, int fp) -> std::pair<std::uint32_t, size_t> {
     const std::uint32_t used = n.used.load(std::memory_order_relaxed);
     const interpolant* ip = n.interp.load(std::memory_order_relaxed);
-    const size_t own = ip && !ip->shared ? sizeof(interpolant) : 0;
+    const size_t own = ip && !ip->shared ? ip->bytes() : 0;
     lt_node* k = n.kids.load(std::memory_order_relaxed);
     if (!k) return {used, own};
     const size_t inside = units.size();

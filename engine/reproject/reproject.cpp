@@ -76,7 +76,7 @@ bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell
   // closest_hit would.
   const ray r = make_ray(cam.origin, d);
   float t = 0;
-  if ((trust.count || c.ip->textured || c.ip->deferred || c.ip->deferred_rays) &&
+  if ((trust.count || c.ip->textured() || c.ip->deferred || c.ip->deferred_rays) &&
       !hit_shape(w.shapes[size_t(c.prim)], w.polys, r, std::numeric_limits<float>::infinity(), t))
     return false;
   // A candidate met before (or, within rounding, at) the point hides it or ties with it:
