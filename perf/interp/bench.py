@@ -99,7 +99,7 @@ def main():
                          f.get("deferred_pixels", 0) / n, cost(last["frames"][:1], "interp"), cost(last["frames"][1:], "interp"),
                          split_cost(last["frames"][1:], False), split_cost(last["frames"][1:], True),
                          cost(last["frames"][1:], "base"), worst["max_rel_err"], f["verify"]["p999_rel_err"], over,
-                         f["memory_bytes"] / 1e6))
+                         f["linetree_bytes"] / 1e6))
             print("%-12s eps %-5g base %7.1f ms cold %8.1f ms warm %7.1f ms base/warm %5.2f interp %5.1f%% "
                   "(per-pixel rays %5.1f%%) interp cost cold %6.2f warm %5.2f (nothing deferred %5.2f, per-pixel rays "
                   "%5.2f), traced %5.2f max %.4f p99.9 %.4f "
@@ -112,7 +112,7 @@ def main():
         out.write("| scene | eps | base ms | interp cold ms | interp warm ms | base/warm | interpolated | "
                   "of which with per-pixel rays | cost of an interpolated pixel, cold | warm | warm, nothing deferred | "
                   "warm, with per-pixel rays | cost of a traced pixel in interp mode, warm | max err | 99.9% err | "
-                  "pixels over eps | memory MB |\n")
+                  "pixels over eps | linetree MB |\n")
         out.write("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
         for r in rows:
             out.write("| %s | %g | %.1f | %.1f | %.1f | %.2f | %.1f%% | %.1f%% | %.2f | %.2f | %.2f | %.2f | %.2f | %.4f | "

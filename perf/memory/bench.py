@@ -51,15 +51,15 @@ def main():
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for b, r in runs:
         fs = r["frames"]
-        mem = [f["memory_bytes"] / 1e6 for f in fs]
+        mem = [f["linetree_bytes"] / 1e6 for f in fs]
         n = sum(sum(f["pixels"].values()) for f in fs)
         px = {k: sum(f["pixels"][k] for f in fs) / n for k in ("fast", "interp", "base")}
         ms = statistics.median(f["ms"] for f in fs)
         lines.append("| %s | %.1f | %.1f | %.1f | %.1f | %.2f | %.2f | %.1f%% | %.1f%% | %.1f%% |" % (
             "%g MB" % b if b else "none", max(mem), mem[-1], r["peak_memory_bytes"] / 1e6, ms, ms / base_ms,
             ms / free_ms, 100 * px["fast"], 100 * px["interp"], 100 * px["base"]))
-    lines += ["", "Base walk: median frame %.1f ms. 'linetrees MB' is the stats' memory_bytes (image, linetrees, "
-              "shared samples and ray trees); the process peak is the resident set's high-water mark." % base_ms]
+    lines += ["", "Base walk: median frame %.1f ms. 'linetrees MB' is the stats' linetree_bytes (linetrees, "
+              "interpolants, shared samples and ray trees); the process peak is the resident set's high-water mark." % base_ms]
     text = "\n".join(lines) + "\n"
     print(text)
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
@@ -71,7 +71,7 @@ def main():
             for b, r in runs:
                 f.write("# budget %g\n" % b)
                 for k, fr in enumerate(r["frames"]):
-                    f.write("%d %.3f %.3f\n" % (k, fr["memory_bytes"] / 1e6, fr["ms"]))
+                    f.write("%d %.3f %.3f\n" % (k, fr["linetree_bytes"] / 1e6, fr["ms"]))
                 f.write("\n\n")
         names = ["no budget"] + ["%g MB" % b for b in budgets[1:]]
         mem = ", ".join("'%s' index %d u 1:2 w l lw 2 t '%s'" % (dat, i, n) for i, n in enumerate(names))

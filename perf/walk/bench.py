@@ -25,8 +25,9 @@ sys.path.insert(0, os.path.join(ROOT, "perf"))
 from common import run_walk  # noqa: E402
 
 
-def walk(exe, scene, path, mode, size, threads, eps, verify=False):
+def walk(exe, scene, path, mode, size, threads, eps, verify=False, budget=0):
     flags = ["--mode", mode, "--size", size, "--threads", threads, "--eps", eps] + (["--verify"] if verify else [])
+    flags += ["--memory-mb", budget] if budget else []
     return run_walk(exe, scene, path, flags)
 
 
@@ -40,12 +41,18 @@ def main():
     ap.add_argument("--threads", type=int, default=os.cpu_count() or 1)
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "epsray"))
     ap.add_argument("--out", default=os.path.join(ROOT, "perf", "results", "walk.md"))
+    ap.add_argument("--memory-mb", type=float, default=24,
+                    help="also run full mode under this linetree budget (issue 4: under 25 MB); 0: not")
     a = ap.parse_args()
     modes = ["base", "interp", "full"]
+    budgeted = "full, %g MB" % a.memory_mb
+    if a.memory_mb:
+        modes.append(budgeted)
     runs = {m: [] for m in modes}
     for _ in range(a.reps):  # interleaved: base, interp, full, base, ...
         for m in modes:
-            runs[m].append(walk(a.exe, a.scene, a.path, m, a.size, a.threads, a.eps))
+            budget = a.memory_mb if m == budgeted else 0
+            runs[m].append(walk(a.exe, a.scene, a.path, m.split(",")[0], a.size, a.threads, a.eps, budget=budget))
     checked = walk(a.exe, a.scene, a.path, "full", a.size, a.threads, a.eps, verify=True)
 
     def frames(m):
@@ -61,15 +68,15 @@ def main():
                   time.strftime("%Y-%m-%d %H:%M")))
     lines.append("| mode | median frame ms | base / mode | fast | interp | base-traced | with per-pixel rays | "
                  "cost fast | cost interp | cost base | cost of fast + interp, nothing deferred | "
-                 "with per-pixel rays | reprojection ms | memory MB (first / middle / last) |")
-    lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+                 "with per-pixel rays | reprojection ms | linetree MB (first / middle / last) | linetree MB, largest of frames 0-29 |")
+    lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|")
     for m in modes:
         fs = frames(m)
         px = {k: sum(f["pixels"][k] for f in fs) for k in ("fast", "interp", "base")}
         tm = {k: sum(f["path_ms"][k] for f in fs) for k in ("fast", "interp", "base")}
         allpx = sum(px.values())
         cost = {k: (tm[k] / px[k] / base_px_ms if px[k] else float("nan")) for k in px}
-        mem = [f["memory_bytes"] / 1e6 for f in runs[m][0]["frames"]]
+        mem = [f["linetree_bytes"] / 1e6 for f in runs[m][0]["frames"]]
         rep = statistics.median(f.get("reproject_ms", 0) for f in fs)
         deferred = sum(f.get("deferred_pixels", 0) for f in fs)
         # The fast and interp pixels split by whether their cell left rays to each pixel.
@@ -78,10 +85,10 @@ def main():
         c_rest = (tm["fast"] + tm["interp"] - d_ms) / rest_px / base_px_ms if rest_px else float("nan")
         c_def = d_ms / deferred / base_px_ms if deferred else float("nan")
         lines.append("| %s | %.1f | %.2f | %.1f%% | %.1f%% | %.1f%% | %.1f%% | %.3f | %.2f | %.2f | %.2f | %.2f | %.1f | "
-                     "%.1f / %.1f / %.1f |" %
+                     "%.1f / %.1f / %.1f | %.1f |" %
                      (m, med[m], med["base"] / med[m], 100 * px["fast"] / allpx, 100 * px["interp"] / allpx,
                       100 * px["base"] / allpx, 100 * deferred / allpx, cost["fast"], cost["interp"], cost["base"],
-                      c_rest, c_def, rep, mem[0], mem[len(mem) // 2], mem[-1]))
+                      c_rest, c_def, rep, mem[0], mem[len(mem) // 2], mem[-1], max(mem[:30])))
     worst = max(f["verify"]["max_rel_err"] for f in checked["frames"])
     over = sum(f["verify"]["violations"] for f in checked["frames"])
     lines.append("")
@@ -112,7 +119,7 @@ def figure12(runs, base):
             n = sum(px.values()) or 1
             out.write("%d %.2f %.2f %.2f %.2f %.2f %.2f %.2f\n" % (
                 k, b[k]["ms"], i[k]["ms"], f[k]["ms"], 100 * px["fast"] / n, 100 * px["interp"] / n,
-                100 * px["base"] / n, f[k]["memory_bytes"] / 1e6))
+                100 * px["base"] / n, f[k]["linetree_bytes"] / 1e6))
     script = (
         "set terminal pngcairo size 900,900; set output '%s'; set multiplot layout 3,1; set grid; set key outside right;"
         "set lmargin 10; set rmargin 30; set xrange [0:*];"
