@@ -9,6 +9,7 @@
 #include "scene/camera.h"
 #include "sched/frame_render.h"
 #include "shade/ray_tree.h"
+#include "shade/surface.h"
 #include "shade/whitted.h"
 #include "test_util.h"
 
@@ -235,6 +236,60 @@ TEST(Shade, MirrorPixelIsKsTimesTheReflectedRadiance) {
   }
   EXPECT_GT(mirrored_sphere, 20);
   EXPECT_GT(mirrored_bg, 100);
+}
+
+// A deferred reflection under an error allowance (interpolate path): shadow rays at what the
+// reflected ray meets may be skipped, each light then taken at half its unshadowed term.
+// The result must differ from the exact terms by at most the error it reports spending,
+// spend no more than was offered, and skip some shadow rays; no allowance is exact.
+TEST(Shade, DeferredReflectionSpendsNoMoreErrorThanItReports) {
+  const std::string text =
+      "b 0.05 0.05 0.08\nambient 0.1 0.1 0.1\n"
+      "v\nfrom 0 1.5 5\nat 0 0.5 0\nup 0 1 0\nangle 50\nresolution 40 30\n"
+      "l -2 3 2 0.5 0.4 0.3\nl 2 3 -1 0.3 0.4 0.5\nl 0 3 -3 0.3 0.3 0.3\n"
+      "f 0.8 0.8 0.8 0.6 0.3 20 0 1\n"  // a shiny floor
+      "p 4\n-5 0 -5\n-5 0 5\n5 0 5\n5 0 -5\n"
+      "f 0.9 0.5 0.3 0.8 0.2 10 0 1\n"  // a shiny sphere and a matt wall behind it
+      "s 0 0.8 -1 0.8\n"
+      "f 0.7 0.7 0.9 0.9 0 0 0 1\n"
+      "p 4\n-5 0 -4\n5 0 -4\n5 4 -4\n-5 4 -4\n";
+  fixture f(text);
+  const int floor_prim = 0;
+  for (float eps : {0.0f, 0.02f, 0.1f, 0.3f}) {
+    std::uint64_t exact_rays = 0, budget_rays = 0;
+    int spent_some = 0, floor_pixels = 0;
+    for (int y = 0; y < f.cam.height; ++y) {
+      for (int x = 0; x < f.cam.width; ++x) {
+        const ray eye = make_ray(f.cam.origin, eye_direction(f.cam, float(x), float(y)));
+        hit h;
+        if (!closest_hit(f.w, eye, INFINITY, h) || f.w.info[size_t(h.prim)].source != floor_prim) continue;
+        ++floor_pixels;
+        const surface sf = surface_at(f.w, h.prim, eye, h.t);
+        trace_state exact_st, budget_st;
+        const vec3 exact = deferred_terms(f.w, eye, h, sf, vec3(1), 0, deferred_reflect, nullptr, exact_st);
+        const vec3 known(0.3f, 0.25f, 0.2f);  // the pixel's interpolated terms
+        error_allowance allow{known, vec3(0.001f), eps};
+        const vec3 got = deferred_terms(f.w, eye, h, sf, vec3(1), 0, deferred_reflect, nullptr, budget_st, &allow);
+        exact_rays += exact_st.counts.shadow, budget_rays += budget_st.counts.shadow;
+        EXPECT_EQ(budget_st.error_left, nullptr) << "the allowance must not outlive the call";
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_GE(allow.spent[c], 0.0f);
+          EXPECT_LE(allow.spent[c], std::max(0.0f, eps * known[c] / (1 + eps) - 0.001f)) << "spent more than offered";
+          EXPECT_LE(std::fabs(got[c] - exact[c]), allow.spent[c] + 1e-6f * (1 + exact[c]))
+              << "pixel " << x << "," << y << " eps " << eps;
+        }
+        if (eps == 0) EXPECT_EQ(got, exact);
+        spent_some += allow.spent != vec3(0);
+      }
+    }
+    ASSERT_GT(floor_pixels, 200);
+    if (eps == 0) {
+      EXPECT_EQ(budget_rays, exact_rays);
+    } else if (eps >= 0.1f) {
+      EXPECT_LT(budget_rays, exact_rays) << "eps " << eps;
+      EXPECT_GT(spent_some, 0) << "eps " << eps;
+    }
+  }
 }
 
 // --- 3. glass and total internal reflection ----------------------------------------------------

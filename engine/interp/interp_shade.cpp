@@ -273,7 +273,11 @@ bool interpolate_line(const world& w, int prim, const lt_node& n, const interpol
     E += T * ip.tx->err_tex;
   }
   // Deferred terms are exact: they add radiance, not error.
-  if (deferring) L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, ip.deferred_rays, &ip.shadow, st);
+  if (deferring) {
+    error_allowance allow{L, E, eps};
+    L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, ip.deferred_rays, &ip.shadow, st, &allow);
+    E += allow.spent;
+  }
   return within(L, E, eps);
 }
 

@@ -53,6 +53,29 @@ inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above
   return out;
 }
 
+// Light j's term where it reaches the point, kd_c ndl + ks spec times its power: what
+// light_at's caller adds when lit.
+inline vec3 unshadowed_term(const world& w, const material& m, vec3 kd_c, vec3 p, vec3 nf, vec3 v, size_t j) {
+  const vec3 lj = glm::normalize(w.light_pos[j] - p);
+  const float ndl = glm::dot(nf, lj);
+  if (!(ndl > 0)) return vec3{0};
+  float spec = 0;
+  if (m.shine > 0) spec = std::pow(std::max(0.0f, glm::dot(nf, glm::normalize(lj + v))), m.shine);
+  return w.light_power[j] * (kd_c * ndl + m.ks * spec);
+}
+
+// Under an error allowance (trace_state::error_left): light j taken at half its unshadowed
+// term when the path's share of the other half fits in what is left.
+inline bool skip_shadow_ray(const world& w, const material& m, vec3 kd_c, vec3 p, vec3 nf, vec3 v, size_t j,
+                            trace_state& st, vec3& L) {
+  const vec3 t = unshadowed_term(w, m, kd_c, p, nf, v, j);
+  const vec3 cost = 0.5f * st.path_weight * t;
+  if (!glm::all(glm::lessThanEqual(cost, *st.error_left))) return false;
+  *st.error_left -= cost;
+  L += 0.5f * t;
+  return true;
+}
+
 inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above, vec3 nf, vec3 v, size_t j,
                            trace_state& st) {
   return light_at(w, m, p, above, nf, v, j, st,
@@ -61,10 +84,19 @@ inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above
 
 // The reflected and transmitted terms of shade_hit (ks Lr, t Lt), shared with
 // deferred_terms so a per-pixel secondary ray is the reference's.
+// The secondary ray's radiance with the path weight scaled by k while it is traced.
+inline vec3 weighted_radiance(const world& w, float k, const ray& r, int depth, trace_state& st) {
+  const float outer = st.path_weight;
+  st.path_weight = outer * k;
+  const vec3 L = radiance(w, r, depth, st);
+  st.path_weight = outer;
+  return k * L;
+}
+
 inline vec3 reflected_term(const world& w, const material& m, const ray& r, vec3 p, vec3 nf, int depth,
                            trace_state& st) {
   ++st.counts.reflect;
-  return m.ks * radiance(w, make_ray(p + w.delta * nf, reflect_dir(r.d, nf)), depth + 1, st);
+  return weighted_radiance(w, m.ks, make_ray(p + w.delta * nf, reflect_dir(r.d, nf)), depth + 1, st);
 }
 
 inline float refraction_k(const material& m, const ray& r, vec3 nf, bool entering, float& eta, float& ci) {
@@ -83,9 +115,9 @@ inline vec3 transmitted_term(const world& w, const material& m, const ray& r, ve
   ++st.counts.refract;
   float eta, ci;
   const float k = refraction_k(m, r, nf, entering, eta, ci);
-  if (k < 0) return m.t * radiance(w, make_ray(p + w.delta * nf, reflect_dir(r.d, nf)), depth + 1, st);
+  if (k < 0) return weighted_radiance(w, m.t, make_ray(p + w.delta * nf, reflect_dir(r.d, nf)), depth + 1, st);
   vec3 td = glm::normalize(eta * r.d + (eta * ci - std::sqrt(k)) * nf);
-  return m.t * radiance(w, make_ray(p - w.delta * nf, td), depth + 1, st);
+  return weighted_radiance(w, m.t, make_ray(p - w.delta * nf, td), depth + 1, st);
 }
 
 }  // namespace
@@ -133,7 +165,9 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
   const vec3 above = sf.p + w.delta * nf;
   const size_t nl = w.light_pos.size();
   const bool record = depth == 1 && st.root_ndl;
+  const bool may_skip = st.error_left && !tree && !record;
   for (size_t j = 0; j < nl; ++j) {
+    if (may_skip && skip_shadow_ray(w, m, kd_c, sf.p, nf, v, j, st, L)) continue;
     const light_term lt = light_at(w, m, sf.p, above, nf, v, j, st);
     if (lt.status == light_lit) {
       L += w.light_power[j] * (kd_c * lt.ndl + m.ks * lt.spec);
@@ -176,7 +210,7 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, std::uint32_t li
 }
 
 vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& sf, vec3 texel, std::uint32_t lights,
-                    std::uint32_t rays, const shadow_candidates* cands, trace_state& st) {
+                    std::uint32_t rays, const shadow_candidates* cands, trace_state& st, error_allowance* allow) {
   const material& m = w.sc.materials[size_t(w.info[size_t(h.prim)].material)];
   const bool entering = glm::dot(sf.ng, r.d) < 0;
   const vec3 nf = entering ? sf.ns : -sf.ns;
@@ -203,8 +237,20 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& s
       if (lt.status == light_lit) L += w.light_power[j] * (kd_c * lt.ndl + m.ks * lt.spec);
     }
   }
+  // The pixel passes when E <= eps (L - E) (within, engine/interp); its L is at least the
+  // terms summed so far, so error s may be added when (1 + eps)(E + s) <= eps L: spend
+  // most of that, keeping a margin for within's rounding allowance.
+  vec3 left{0};
+  if (allow && !st.tree && (rays & (deferred_reflect | deferred_refract))) {
+    const vec3 known = allow->known + L;
+    left = glm::max(vec3{0}, 0.9f * (allow->eps * known / (1 + allow->eps) - allow->err) - 1e-5f * known - 1e-6f);
+    st.error_left = &left, st.path_weight = 1;
+  }
+  const vec3 offered = left;
   if ((rays & deferred_reflect) && m.ks > 0) L += reflected_term(w, m, r, sf.p, nf, 1, st);
   if ((rays & deferred_refract) && m.t > 0) L += transmitted_term(w, m, r, sf.p, nf, entering, 1, st);
+  st.error_left = nullptr;
+  if (allow) allow->spent = offered - left;
   return L;
 }
 

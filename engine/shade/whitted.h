@@ -44,6 +44,22 @@ struct trace_state {
   // When set, shading at depth 1 stores its reflected and transmitted terms (ks Lr, t Lt;
   // 0 when not traced), which an interpolant may leave to per-pixel rays.
   vec3* root_rays = nullptr;
+  // When set (deferred_terms with an error_allowance, never while a tree is recorded): the
+  // error, per channel and in the pixel's units, that shading below the deferred secondary
+  // ray may still add. A light whose unshadowed term t, times the path's weight (the
+  // product of ks and T down to here), fits in half of what is left is taken at t / 2 with
+  // no shadow ray: its true term is 0 or t, so the error is at most weight * t / 2.
+  vec3* error_left = nullptr;
+  float path_weight = 1;
+};
+
+// What a pixel may spend on its deferred secondary rays: the radiance already summed and
+// its proven error (before the deferred terms), the pixel's epsilon, and on return the
+// error the per-pixel rays' shading added (to be added to the pixel's bound).
+struct error_allowance {
+  vec3 known{0}, err{0};
+  float eps = 0;
+  vec3 spent{0};
 };
 
 // The primitives that may block deferred lights' shadow rays, for a cell whose shadow
@@ -83,7 +99,10 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, std::uint32_t li
 // its texture value (1 when untextured): the interpolate path has both at hand. Lights
 // listed in `candidates` (may be null) test their shadow rays against its prims alone.
 struct surface;
+// With `allow`, the secondary rays' shading may skip shadow rays within the pixel's
+// remaining error (trace_state::error_left); allow->spent says how much it used.
 vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& sf, vec3 texel, std::uint32_t lights,
-                    std::uint32_t rays, const shadow_candidates* candidates, trace_state& state);
+                    std::uint32_t rays, const shadow_candidates* candidates, trace_state& state,
+                    error_allowance* allow = nullptr);
 
 }  // namespace epsray
