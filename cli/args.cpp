@@ -47,7 +47,7 @@ std::string usage_text() {
          "       epsray walk   SCENE --path FILE [--size WxH] [--mode M] [--eps E] [--threads N]\n"
          "                      [--out-dir DIR] [--png] [--pfm] [--stats OUT.json] [--verify]\n"
          "       epsray view   [SCENE] [--path FILE] [--size WxH] [--eps E] [--threads N]\n"
-         "                      [--record FILE] [--script FILE] [--screenshot OUT.png]\n"
+         "                      [--record FILE] [--script FILE] [--screenshot OUT.png] [--memory-mb M]\n"
          "       epsray info\n"
          "extra: --tile-rows N (rows per tile), --quiet (no summary on stdout),\n"
          "       --reasons OUT.png (render: the error-coded image), --verify (render too),\n"
@@ -57,7 +57,8 @@ std::string usage_text() {
          "       cannot prove per pixel; default 256), --failed-split-pixels P (cells refused for a\n"
          "       discontinuity or a miss are not split below P pixels; default 0),\n"
          "       --pin (bind each worker thread to its own core, through hwloc),\n"
-         "       --memory-mb M (linetrees and caches: evict least recently used cells between frames)\n"
+         "       --memory-mb M (linetrees and caches: evict least recently used cells between frames;\n"
+         "       render and walk: no budget unless given, view: 256)\n"
          "baselines (perf/): --mode upsample [--upsample K] (trace every K-th pixel each way, bilinear),\n"
          "       --mode reuse [--reuse-age N] (last frame's pixels reprojected, no error control),\n"
          "       --mode lightfield [--lf-depth D] (fixed-depth linetrees, no error predicate)\n";
@@ -79,7 +80,7 @@ cli_options parse_args(const std::vector<std::string>& a) {
     };
     // The viewer always renders in full mode and writes only what its own flags name.
     if (view && (f == "--mode" || f == "--frame" || f == "--png" || f == "--pfm" || f == "--stats" ||
-                 f == "--verify" || f == "--reasons" || f == "--quiet" || f == "--pin" || f == "--memory-mb"))
+                 f == "--verify" || f == "--reasons" || f == "--quiet" || f == "--pin"))
       bad("unknown option '" + f + "' for view");
     if (f.rfind("--", 0) != 0) {
       if (!o.scene.empty() || o.command == "info") bad("unexpected argument '" + f + "'");

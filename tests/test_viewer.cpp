@@ -368,5 +368,17 @@ TEST_F(ViewerXvfb, ScreenshotFlagSavesTheRefinedFrameAndExits) {
   EXPECT_GT(differing, 1000) << "the HUD is drawn";
 }
 
+// A budget far below one frame's working set evicts between every pair of frames; the
+// refined frame is still the Whitted image within epsilon.
+TEST_F(ViewerXvfb, TinyMemoryBudgetStillGivesTheFrameWithinEpsilon) {
+  EPSRAY_START_XVFB(x);
+  test::write_file(dir.file("s.script"), "hud off\nframes 8\nrefine\nframes 4\nscreenshot shot.png\n");
+  const proc_result r = view({"--memory-mb", "1", "--script", "s.script"}, x.display(), "320x240");
+  ASSERT_EQ(r.code, 0) << r;
+  const png shot = read_png(dir.file("shot.png"));
+  ASSERT_EQ(shot.width, 320);
+  EXPECT_LE(max_difference(shot, render("", 0, "320x240")), byte_tolerance(eps));
+}
+
 }  // namespace
 }  // namespace epsray

@@ -77,8 +77,10 @@ int run_view(const cli_options& given) {
 
   window win(width, height, "epsray view: " + o.scene, !scripted);  // vsync paces a user's loop
   const world w = make_world(std::move(sc));
+  // A session may wander for hours: the linetrees keep to a budget (256 MB unless set).
+  const double budget_mb = o.memory_mb > 0 ? o.memory_mb : 256;
   render_thread renderer(w, make_frame_params(o, nullptr, nullptr), width, height,
-                         o.threads ? o.threads : hardware_threads(), &window::wake);
+                         o.threads ? o.threads : hardware_threads(), size_t(budget_mb * 1048576.0), &window::wake);
   frame_texture texture;
 
   viewer_state st;

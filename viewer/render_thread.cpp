@@ -5,14 +5,14 @@
 namespace epsray {
 
 render_thread::render_thread(const world& w, const frame_params& fp, int width, int height, int threads,
-                             std::function<void()> on_finished)
+                             size_t memory_budget, std::function<void()> on_finished)
     : w_(w),
       fp_(fp),
       width_(width),
       height_(height),
       on_finished_(std::move(on_finished)),
       pool_(threads),
-      trees_(w.prim_bounds) {
+      trees_(w.prim_bounds, memory_budget) {
   fp_.trees = fp_.mode == render_mode::base ? nullptr : &trees_;
   fp_.reproj = &reproj_;
   fp_.reasons = true;  // the reasons and paths displays

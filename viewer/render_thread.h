@@ -27,7 +27,8 @@ class render_thread {
  public:
   // `fp` gives the mode and interpolation settings; eps comes with each request.
   // `on_finished` runs on the render thread after each frame (it wakes the window thread).
-  render_thread(const world& w, const frame_params& fp, int width, int height, int threads,
+  // memory_budget: the linetrees' (bytes; 0: none), as --memory-mb.
+  render_thread(const world& w, const frame_params& fp, int width, int height, int threads, size_t memory_budget,
                 std::function<void()> on_finished);
   ~render_thread();  // finishes the frame in hand, then joins
   render_thread(const render_thread&) = delete;
