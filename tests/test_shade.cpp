@@ -278,7 +278,9 @@ TEST(Shade, DeferredReflectionSpendsNoMoreErrorThanItReports) {
           EXPECT_LE(std::fabs(got[c] - exact[c]), allow.spent[c] + 1e-6f * (1 + exact[c]))
               << "pixel " << x << "," << y << " eps " << eps;
         }
-        if (eps == 0) EXPECT_EQ(got, exact);
+        if (eps == 0) {
+          EXPECT_EQ(got, exact);
+        }
         spent_some += allow.spent != vec3(0);
       }
     }

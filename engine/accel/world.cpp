@@ -69,6 +69,10 @@ world make_world(scene s) {
     w.light_power.push_back(light_intensity(s, l));
   }
   for (const texture& t : s.textures) w.texture_ranges.push_back(range_of(t));
+  // Textured pixels ask for these at every hit: computed once (a polygon's normal is a
+  // cross product in double and two normalisations).
+  w.uv_frames.resize(w.info.size());
+  for (size_t i = 0; i < w.info.size(); ++i) w.uv_frames[i] = fixed_uv_frame(s, s.prims[size_t(w.info[i].source)]);
   w.ambient = scene_ambient(s);
   w.background = s.background;
   w.delta = 1e-4f * glm::length(w.box.extent());

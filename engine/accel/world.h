@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "accel/bvh.h"
+#include "geom/shape_build.h"
 #include "geom/shapes.h"
 #include "scene/scene.h"
 #include "shade/texture.h"
@@ -29,6 +30,7 @@ struct world {
   bvh tree;
   std::vector<vec3> light_pos, light_power;
   std::vector<texture_range> texture_ranges;  // per scene texture
+  std::vector<uv_frame> uv_frames;  // per primitive id: polygons, patches and disks (surface_uv)
   vec3 ambient{0}, background{0};
   bounds box;        // tight bounds of the primitives
   float delta = 0;   // 1e-4 of the box diagonal: origin offset of secondary rays

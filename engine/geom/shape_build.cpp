@@ -12,6 +12,32 @@ bounds disk_bounds(vec3 c, vec3 n, float r) {
 }
 }  // namespace
 
+vec3 perpendicular(vec3 n) {
+  vec3 a = std::fabs(n.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0);
+  return glm::normalize(glm::cross(n, a));
+}
+
+uv_frame fixed_uv_frame(const scene& s, const primitive& p) {
+  uv_frame f;
+  switch (p.kind) {
+    case prim_kind::polygon:
+    case prim_kind::patch: {
+      const vec3* v = &s.vertices[size_t(p.first)];
+      f.o = v[0];
+      f.eu = glm::normalize(v[1] - v[0]);
+      f.ev = glm::cross(polygon_normal(s, p), f.eu);
+      break;
+    }
+    case prim_kind::disk:
+      f.o = p.a;
+      f.eu = perpendicular(p.b);
+      f.ev = glm::cross(p.b, f.eu);
+      break;
+    default: break;
+  }
+  return f;
+}
+
 vec3 polygon_normal(const scene& s, const primitive& p) {
   const vec3* v = &s.vertices[size_t(p.first)];
   glm::dvec3 n = glm::cross(glm::dvec3(v[1]) - glm::dvec3(v[0]), glm::dvec3(v[2]) - glm::dvec3(v[1]));

@@ -11,12 +11,6 @@ namespace {
 
 constexpr float pi = 3.14159265358979323846f;
 
-// A unit vector perpendicular to n, the same for the same n.
-vec3 perpendicular(vec3 n) {
-  vec3 a = std::fabs(n.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0);
-  return glm::normalize(glm::cross(n, a));
-}
-
 // Barycentric coordinates of p in triangle (a, b, c), p assumed in its plane.
 vec3 barycentric(vec3 p, vec3 a, vec3 b, vec3 c) {
   vec3 v0 = b - a, v1 = c - a, v2 = p - a;
@@ -121,18 +115,12 @@ bool planar_uv_frame(const world& w, int prim, vec3 p, vec3& o, vec3& eu, vec3& 
   const primitive& pr = s.prims[size_t(w.info[size_t(prim)].source)];
   switch (pr.kind) {
     case prim_kind::polygon:
-    case prim_kind::patch: {
-      const vec3* v = &s.vertices[size_t(pr.first)];
-      o = v[0];
-      eu = glm::normalize(v[1] - v[0]);
-      ev = glm::cross(polygon_normal(s, pr), eu);
+    case prim_kind::patch:
+    case prim_kind::disk: {
+      const uv_frame& f = w.uv_frames[size_t(prim)];
+      o = f.o, eu = f.eu, ev = f.ev;
       return true;
     }
-    case prim_kind::disk:
-      o = pr.a;
-      eu = perpendicular(pr.b);
-      ev = glm::cross(pr.b, eu);
-      return true;
     case prim_kind::box: {
       vec3 q = p - pr.a;
       vec3 l{glm::dot(q, pr.frame[0]), glm::dot(q, pr.frame[1]), glm::dot(q, pr.frame[2])};
