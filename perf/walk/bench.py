@@ -103,31 +103,33 @@ def main():
         out.write(text)
     print("wrote", a.out)
     if shutil.which("gnuplot"):
-        figure12(runs, os.path.splitext(a.out)[0])
+        figure12(runs, os.path.splitext(a.out)[0], budgeted if a.memory_mb else None)
     return 0
 
 
-def figure12(runs, base):
+def figure12(runs, base, budgeted=None):
     """The paper's Figure 12 for our walk: per frame, the frame time of each mode, the share
-    of full mode's pixels on each path, and full mode's linetree memory (the first repetition)."""
+    of full mode's pixels on each path, and full mode's linetree memory, unbounded and under
+    the budget when one ran (the first repetition)."""
     dat, png = base + "-frames.dat", base + "-frames.png"
     b, i, f = (runs[m][0]["frames"] for m in ("base", "interp", "full"))
+    fb = runs[budgeted][0]["frames"] if budgeted else f
     with open(dat, "w") as out:
-        out.write("# frame base_ms interp_ms full_ms fast%% interp%% base%% full_memory_MB\n")
+        out.write("# frame base_ms interp_ms full_ms fast%% interp%% base%% full_memory_MB budgeted_memory_MB\n")
         for k in range(len(f)):
             px = f[k]["pixels"]
             n = sum(px.values()) or 1
-            out.write("%d %.2f %.2f %.2f %.2f %.2f %.2f %.2f\n" % (
+            out.write("%d %.2f %.2f %.2f %.2f %.2f %.2f %.2f %.2f\n" % (
                 k, b[k]["ms"], i[k]["ms"], f[k]["ms"], 100 * px["fast"] / n, 100 * px["interp"] / n,
-                100 * px["base"] / n, f[k]["linetree_bytes"] / 1e6))
+                100 * px["base"] / n, f[k]["linetree_bytes"] / 1e6, fb[k]["linetree_bytes"] / 1e6))
     script = (
         "set terminal pngcairo size 900,900; set output '%s'; set multiplot layout 3,1; set grid; set key outside right;"
         "set lmargin 10; set rmargin 30; set xrange [0:*];"
         "set ylabel 'frame ms'; plot '%s' u 1:2 w l lw 2 t 'base', '' u 1:3 w l lw 2 t 'interp', '' u 1:4 w l lw 2 t 'full';"
         "set ylabel 'pixels (%%, full)'; set yrange [0:100]; plot '%s' u 1:($5+$6+$7) w filledcurves x1 t 'base-traced', "
         "'' u 1:($5+$6) w filledcurves x1 t 'interpolated', '' u 1:5 w filledcurves x1 t 'fast (reprojected)';"
-        "set yrange [0:*]; set xlabel 'frame'; set ylabel 'linetrees MB (full)'; plot '%s' u 1:8 w l lw 2 t 'memory';"
-        "unset multiplot" % (png, dat, dat, dat))
+        "set yrange [0:*]; set xlabel 'frame'; set ylabel 'linetrees MB (full)'; plot '%s' u 1:8 w l lw 2 t 'unbounded'"
+        "%s; unset multiplot" % (png, dat, dat, dat, ", '' u 1:9 w l lw 2 t '%s'" % budgeted if budgeted else ""))
     if subprocess.run(["gnuplot", "-e", script]).returncode == 0:
         print("wrote", png)
 
