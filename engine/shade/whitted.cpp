@@ -82,9 +82,8 @@ inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above
                   [&](const ray& r, float dist) { return shadow_blocker(w, r, dist, j, st); });
 }
 
-// The reflected and transmitted terms of shade_hit (ks Lr, t Lt), shared with
-// deferred_terms so a per-pixel secondary ray is the reference's.
-// The secondary ray's radiance with the path weight scaled by k while it is traced.
+// A secondary ray's radiance times k, with the path weight scaled by k while it is traced
+// (what an error allowance charges for a skipped shadow ray below it).
 inline vec3 weighted_radiance(const world& w, float k, const ray& r, int depth, trace_state& st) {
   const float outer = st.path_weight;
   st.path_weight = outer * k;
@@ -93,6 +92,8 @@ inline vec3 weighted_radiance(const world& w, float k, const ray& r, int depth, 
   return k * L;
 }
 
+// The reflected and transmitted terms of shade_hit (ks Lr, t Lt), shared with
+// deferred_terms so a per-pixel secondary ray is the reference's.
 inline vec3 reflected_term(const world& w, const material& m, const ray& r, vec3 p, vec3 nf, int depth,
                            trace_state& st) {
   ++st.counts.reflect;
