@@ -53,7 +53,8 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
                                                interp_scratch& scratch, bool predicate) {
   auto ip = std::make_unique<interpolant>();
   const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
-  if (m.texture >= 0) ip->tx = std::make_unique<textured_terms>();
+  // Its texture terms are allocated only if the cell is kept: most builds fail.
+  const bool textured = m.texture >= 0;
   line_key keys[16];
   line_sample samples[16];
   const ray_tree* trees[16];
@@ -117,12 +118,12 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     tree.clear();
     st.tree = &tree;
     line_sample& s = samples[k];
-    if (ip->textured()) st.root_tex_factor = &s.tex, st.root_uv = &s.uv;
+    if (textured) st.root_tex_factor = &s.tex, st.root_uv = &s.uv;
     st.root_ndl = s.ndl, st.root_spec = s.spec, st.root_rays = s.rays;
     s.rad = shade_hit(w, lines[k], hit{ts[k], prim}, 1, st);
     st.root_tex_factor = nullptr, st.root_uv = nullptr, st.root_ndl = nullptr, st.root_spec = nullptr;
     st.root_rays = nullptr;
-    if (ip->textured()) s.rad -= s.tex * sample_texture(w.sc.textures[size_t(m.texture)], s.uv);
+    if (textured) s.rad -= s.tex * sample_texture(w.sc.textures[size_t(m.texture)], s.uv);
     s.hit = true;
     s.tree = cache.trees.canonical(tree);
     if (s.tree) cache.lines.insert(keys[k], s);  // uncacheable trees stay private to this build
@@ -140,7 +141,9 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
       ip->rad[k] = samples[k].rad;
       ip->rad_min = glm::min(ip->rad_min, samples[k].rad);
     }
-    if (textured_terms* tx = ip->tx.get()) {
+    if (textured) {
+      ip->tx = std::make_unique<textured_terms>();
+      textured_terms* tx = ip->tx.get();
       tx->tex_min = glm::vec3(INFINITY);
       for (int k = 0; k < 16; ++k) tx->tex[k] = samples[k].tex, tx->tex_min = glm::min(tx->tex_min, samples[k].tex);
       tx->texels = w.texture_ranges[size_t(m.texture)];
@@ -170,11 +173,10 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     return ip;
   }
   cell_query q;
-  q.w = &w, q.prim = prim, q.fp = &fp, q.lo = n.lo, q.hi = n.hi, q.tree = trees[0], q.textured = ip->textured();
+  q.w = &w, q.prim = prim, q.fp = &fp, q.lo = n.lo, q.hi = n.hi, q.tree = trees[0], q.textured = textured;
   q.deferred = deferred, q.deferred_rays = deferred_rays, q.allow_defer = defer;
   cell_bound b = bound_cell(q);
   ip->reason = b.reason, ip->err = b.err, ip->hit_box = b.hit_box;
-  if (ip->tx) ip->tx->err_tex = b.err_tex;
   ip->split = b.reason == cell_reason::valid || b.reason == cell_reason::nonlinear ? b.split : axes_by_extent(n);
   ip->deferred = std::uint8_t(b.deferred), ip->deferred_rays = std::uint8_t(b.deferred_rays);
   ip->shadow = b.shadow;
@@ -188,12 +190,13 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     const glm::vec3 diffuse = w.light_power[j] * (m.kd * m.color), specular = w.light_power[j] * m.ks;
     for (int k = 0; k < 16; ++k) {
       line_sample& s = samples[k];
-      if (ip->textured()) s.tex -= diffuse * s.ndl[j];
+      if (textured) s.tex -= diffuse * s.ndl[j];
       else s.rad -= diffuse * s.ndl[j];
       s.rad -= specular * s.spec[j];
     }
   }
   corners_to_ip();
+  if (ip->tx) ip->tx->err_tex = b.err_tex;
   return ip;
 }
 
@@ -272,7 +275,8 @@ bool interpolate_line(const world& w, int prim, const lt_node& n, const interpol
     L += T * interpolate(ip.tx->tex, wts);
     E += T * ip.tx->err_tex;
   }
-  // Deferred terms are exact: they add radiance, not error.
+  // Deferred terms are the reference's own, traced per pixel; they add error only where the
+  // pixel's allowance let their shading skip a shadow ray, and say how much.
   if (deferring) {
     error_allowance allow{L, E, eps};
     L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, ip.deferred_rays, &ip.shadow, st, &allow);
