@@ -88,7 +88,9 @@ frame_params make_frame_params(const cli_options& o, linetree_set* trees, reproj
 
 std::unique_ptr<linetree_set> make_linetrees(const cli_options& o, const world& w) {
   if (o.mode == render_mode::base || o.mode == render_mode::upsample || o.mode == render_mode::reuse) return nullptr;
-  return std::make_unique<linetree_set>(w.prim_bounds, size_t(o.memory_mb * 1048576.0));
+  const size_t width = size_t(o.size ? o.size->first : w.sc.view.width);
+  const size_t height = size_t(o.size ? o.size->second : w.sc.view.height);
+  return std::make_unique<linetree_set>(w.prim_bounds, size_t(o.memory_mb * 1048576.0), width * height);
 }
 
 }  // namespace epsray

@@ -12,7 +12,7 @@ render_thread::render_thread(const world& w, const frame_params& fp, int width, 
       height_(height),
       on_finished_(std::move(on_finished)),
       pool_(threads),
-      trees_(w.prim_bounds, memory_budget) {
+      trees_(w.prim_bounds, memory_budget, size_t(width) * size_t(height)) {
   fp_.trees = fp_.mode == render_mode::base ? nullptr : &trees_;
   fp_.reproj = &reproj_;
   fp_.reasons = true;  // the reasons and paths displays

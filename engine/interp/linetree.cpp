@@ -63,20 +63,24 @@ const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::a
 }
 
 namespace {
-// The unique-ray hash takes at most a quarter of a memory budget: the largest power of two
-// that fits, since the table rounds up.
-std::size_t line_capacity(std::size_t budget) {
-  if (budget == 0) return std::size_t(1) << 18;
-  const std::size_t slot = decltype(sample_cache::lines)::slot_bytes();
-  const std::size_t fit = std::clamp<std::size_t>(budget / 4 / slot, std::size_t(1) << 12, std::size_t(1) << 18);
-  return std::bit_floor(fit);
+// The unique-ray hash: room for about half a line per pixel (a cold 800x600 frame of the
+// art room shares 133k lines), 2^12 to 2^18 of them, and at most a quarter of a memory
+// budget: the largest power of two that fits, since the table rounds up.
+std::size_t line_capacity(std::size_t budget, std::size_t pixels) {
+  constexpr std::size_t least = std::size_t(1) << 12, most = std::size_t(1) << 18;
+  std::size_t cap = pixels ? std::clamp(std::bit_ceil(pixels / 2), least, most) : most;
+  if (budget) {
+    const std::size_t slot = decltype(sample_cache::lines)::slot_bytes();
+    cap = std::min(cap, std::bit_floor(std::clamp(budget / 4 / slot, least, most)));
+  }
+  return cap;
 }
 }  // namespace
 
-linetree_set::linetree_set(const std::vector<bounds>& prim_bounds, size_t memory_budget)
+linetree_set::linetree_set(const std::vector<bounds>& prim_bounds, size_t memory_budget, size_t pixels)
     : bounds_(prim_bounds), budget_(memory_budget),
       trees_(new std::array<std::atomic<linetree*>, 6>[prim_bounds.size()]), count_(prim_bounds.size()),
-      samples_(line_capacity(memory_budget), memory_budget ? std::size_t(1) << 13 : std::size_t(1) << 16) {
+      samples_(line_capacity(memory_budget, pixels), memory_budget ? std::size_t(1) << 13 : std::size_t(1) << 16) {
   for (size_t i = 0; i < count_; ++i)
     for (auto& t : trees_[i]) t.store(nullptr, std::memory_order_relaxed);
 }

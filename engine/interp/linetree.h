@@ -79,8 +79,9 @@ const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::a
 // The linetrees of every primitive, six facepairs each, created on first use.
 class linetree_set {
  public:
-  // memory_budget (bytes, 0: none) also sizes the unique-ray hash to a share of it.
-  explicit linetree_set(const std::vector<bounds>& prim_bounds, size_t memory_budget = 0);
+  // memory_budget (bytes, 0: none) also sizes the unique-ray hash to a share of it; so does
+  // the frame's pixel count when given (0: the largest table).
+  explicit linetree_set(const std::vector<bounds>& prim_bounds, size_t memory_budget = 0, size_t pixels = 0);
   ~linetree_set();
   linetree& get(int prim, int facepair_index);
   // Nodes, interpolants and the caches: kept by counting what is published and freed, so
