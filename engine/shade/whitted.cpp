@@ -33,6 +33,16 @@ struct light_term {
   float ndl = 0, spec = 0;
 };
 
+// The highlight's power for unit directions to the light lj and to the eye v.
+inline float specular_power(const material& m, vec3 nf, vec3 lj, vec3 v) {
+  return m.shine > 0 ? std::pow(std::max(0.0f, glm::dot(nf, glm::normalize(lj + v))), m.shine) : 0.0f;
+}
+
+// What a lit light j adds: its power times kd_c ndl + ks spec.
+inline vec3 lit_term(const world& w, const material& m, vec3 kd_c, size_t j, float ndl, float spec) {
+  return w.light_power[j] * (kd_c * ndl + m.ks * spec);
+}
+
 // blocker(ray, dist): some primitive the shadow ray meets before the light, or -1.
 template <class Blocker>
 inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above, vec3 nf, vec3 v, size_t j,
@@ -46,22 +56,15 @@ inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above
   float dist = glm::length(so);
   int blocker = dist > 0 ? blocker_of(make_ray(above, so / dist), dist) : -1;
   out.status = blocker >= 0 ? w.info[size_t(blocker)].source : light_lit;
-  if (blocker < 0 && m.shine > 0) {
-    vec3 hj = glm::normalize(lj + v);
-    out.spec = std::pow(std::max(0.0f, glm::dot(nf, hj)), m.shine);
-  }
+  if (blocker < 0) out.spec = specular_power(m, nf, lj, v);
   return out;
 }
 
-// Light j's term where it reaches the point, kd_c ndl + ks spec times its power: what
-// light_at's caller adds when lit.
+// Light j's term where it reaches the point, as light_at's caller adds it when lit.
 inline vec3 unshadowed_term(const world& w, const material& m, vec3 kd_c, vec3 p, vec3 nf, vec3 v, size_t j) {
   const vec3 lj = glm::normalize(w.light_pos[j] - p);
   const float ndl = glm::dot(nf, lj);
-  if (!(ndl > 0)) return vec3{0};
-  float spec = 0;
-  if (m.shine > 0) spec = std::pow(std::max(0.0f, glm::dot(nf, glm::normalize(lj + v))), m.shine);
-  return w.light_power[j] * (kd_c * ndl + m.ks * spec);
+  return ndl > 0 ? lit_term(w, m, kd_c, j, ndl, specular_power(m, nf, lj, v)) : vec3{0};
 }
 
 // Under an error allowance (trace_state::error_left): light j taken at half its unshadowed
@@ -171,7 +174,7 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
     if (may_skip && skip_shadow_ray(w, m, kd_c, sf.p, nf, v, j, st, L)) continue;
     const light_term lt = light_at(w, m, sf.p, above, nf, v, j, st);
     if (lt.status == light_lit) {
-      L += w.light_power[j] * (kd_c * lt.ndl + m.ks * lt.spec);
+      L += lit_term(w, m, kd_c, j, lt.ndl, lt.spec);
       if (split) tex_factor += w.light_power[j] * (m.kd * m.color * lt.ndl);
     }
     if (record && j < size_t(max_deferred_lights)) {
@@ -235,7 +238,7 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& s
                               return -1;
                             })
                  : light_at(w, m, sf.p, above, nf, -r.d, j, st);
-      if (lt.status == light_lit) L += w.light_power[j] * (kd_c * lt.ndl + m.ks * lt.spec);
+      if (lt.status == light_lit) L += lit_term(w, m, kd_c, j, lt.ndl, lt.spec);
     }
   }
   // The pixel passes when E <= eps (L - E) (within, engine/interp); its L is at least the
