@@ -5,7 +5,7 @@
 
 #include "geom/shape_build.h"
 #include "predicate/djet.h"
-#include "predicate/shaft.h"
+#include "predicate/shaft_shape.h"
 #include "shade/surface.h"
 #include "shade/whitted.h"
 
@@ -128,8 +128,9 @@ struct evaluator {
     for (size_t j = 0; j < w.light_pos.size() && j < size_t(max_deferred_lights); ++j) {
       if (!(deferred >> j & 1)) continue;
       shadow_candidates next = shadow;
-      const shaft s = make_shaft(from, with_rounding_margin(bounds{w.light_pos[j], w.light_pos[j]}));
-      const bool over = for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) {
+      const bounds light = with_rounding_margin(bounds{w.light_pos[j], w.light_pos[j]});
+      const shaft s = make_shaft(from, light);
+      const bool over = for_each_shape_in_shaft(w, s, from, light, [&](int id) {
         if (id == self || std::find(next.prims, next.prims + next.count, id) != next.prims + next.count) return false;
         if (next.count == shadow_candidates::max_prims) return true;
         next.prims[next.count++] = id;
@@ -145,7 +146,7 @@ struct evaluator {
   bool shaft_empty(const bounds& a, const bounds& b, int skip_a, int skip_b) const {
     if (!finite_box(a) || !finite_box(b)) return false;
     shaft s = make_shaft(a, b);
-    return !for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) { return id != skip_a && id != skip_b; });
+    return !for_each_shape_in_shaft(w, s, a, b, [&](int id) { return id != skip_a && id != skip_b; });
   }
   bool shaft_clear(const bounds& a, const bounds& b, int skip_a, int skip_b) {
     return shaft_empty(a, b, skip_a, skip_b) ? true : reject(cell_reason::blocked);

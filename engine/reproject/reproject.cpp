@@ -7,7 +7,7 @@
 #include <limits>
 #include <tuple>
 
-#include "predicate/shaft.h"
+#include "predicate/shaft_shape.h"
 
 namespace epsray {
 
@@ -24,8 +24,9 @@ cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye) {
   if (!same_first_hit(w.shapes[size_t(c.prim)], fp, eye)) return out;
   // A pixel's point, computed in floats from its own eye ray, may lie some ulps outside the
   // box the predicate proved for the cell's lines.
-  const shaft s = make_shaft(bounds{eye, eye}, with_rounding_margin(c.ip->hit_box, eye));
-  const bool crowded = for_each_in_shaft(w.tree, w.slot_bounds, w.slot_prim, s, [&](int id) {
+  const bounds from{eye, eye}, to = with_rounding_margin(c.ip->hit_box, eye);
+  const shaft s = make_shaft(from, to);
+  const bool crowded = for_each_shape_in_shaft(w, s, from, to, [&](int id) {
     if (id == c.prim || std::find(out.candidates, out.candidates + out.count, id) != out.candidates + out.count)
       return false;
     if (out.count == cell_trust::max_candidates) return true;
