@@ -82,9 +82,8 @@ TEST(Interpolant, QuadrilinearReproducesMultilinearFunctions) {
       corner[k] = f(t);
     }
     for (int s = 0; s < 20; ++s) {
-      float t[4] = {t01(rng), t01(rng), t01(rng), t01(rng)}, w[16];
-      corner_weights(t, w);
-      EXPECT_NEAR(interpolate(corner, w), f(t), 1e-5f);
+      float t[4] = {t01(rng), t01(rng), t01(rng), t01(rng)};
+      EXPECT_NEAR(quadrilinear(corner, t), f(t), 1e-5f);
     }
   }
 }
@@ -396,7 +395,7 @@ void check_soundness(const world& w, int samples_per_cell, int depth_lo, int dep
           L[k] -= deferred_terms(w, cr, hit{t, h.prim}, b.deferred, b.deferred_rays, ts);
         }
         for (int s = 0; s < samples_per_cell; ++s) {
-          float t01[4], c[4], wts[16];
+          float t01[4], c[4];
           for (int i = 0; i < 4; ++i) {
             t01[i] = std::uniform_real_distribution<float>(0, 1)(rng);
             c[i] = n->lo[i] + t01[i] * (n->hi[i] - n->lo[i]);
@@ -423,8 +422,7 @@ void check_soundness(const world& w, int samples_per_cell, int depth_lo, int dep
               << "accepted cell has a discontinuity";
           ASSERT_EQ(pl & ~b.deferred, 0u) << "a light's visibility changes inside the cell but is interpolated";
           ASSERT_EQ(pr & ~b.deferred_rays, 0u) << "a subtree changes inside the cell but is interpolated";
-          corner_weights(t01, wts);
-          glm::vec3 I = interpolate(L, wts);
+          glm::vec3 I = quadrilinear(L, t01);
           for (int ch = 0; ch < 3; ++ch)
             ASSERT_LE(std::fabs(f[ch] - I[ch]), b.err[ch] + 2e-5f * (std::fabs(f[ch]) + 1e-2f))
                 << "bound broken at depth " << n->depth;

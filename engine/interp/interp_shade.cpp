@@ -257,10 +257,9 @@ bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye) {
 
 bool interpolate_line(const world& w, int prim, const lt_node& n, const interpolant& ip, const float x4[4], float eps,
                       const ray& r, float t_hit, trace_state& st, glm::vec3& L) {
-  float t[4], wts[16];
+  float t[4];
   for (int i = 0; i < 4; ++i) t[i] = std::clamp((x4[i] - n.lo[i]) / (n.hi[i] - n.lo[i]), 0.0f, 1.0f);
-  corner_weights(t, wts);
-  L = interpolate(ip.rad, wts);
+  L = quadrilinear(ip.rad, t);
   glm::vec3 E = ip.err;
   const bool deferring = (ip.deferred | ip.deferred_rays) != 0;
   if (!ip.textured() && !deferring) return within(L, E, eps);
@@ -272,7 +271,7 @@ bool interpolate_line(const world& w, int prim, const lt_node& n, const interpol
     // so only the factor it multiplies carries an error: |T g* - T g| <= T err_tex.
     const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
     T = sample_texture(w.sc.textures[size_t(m.texture)], surface_uv(w, prim, sf.p));
-    L += T * interpolate(ip.tx->tex, wts);
+    L += T * quadrilinear(ip.tx->tex, t);
     E += T * ip.tx->err_tex;
   }
   // Deferred terms are the reference's own, traced per pixel; they add error only where the
