@@ -209,5 +209,49 @@ TEST(Reprojection, CellIsTrustedWithTheOccludersItsPixelsMustTest) {
   EXPECT_EQ(hidden.candidates[0], sphere_id);
 }
 
+// Splatting finds, per row, the run of pixels whose lines lie in each cell by solving the
+// per-pixel test's inequalities (linear along a row); ownership must match testing every
+// pixel of every cell's rectangle, but for pixels where float rounding decides (a few).
+TEST(Reprojection, RowRunsOwnThePixelsThePerPixelTestWould) {
+  world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/artroom.nff"));
+  linetree_set trees(w.prim_bounds);
+  reprojection_state reproj;
+  workers pool(2);
+  frame_params p;
+  p.mode = render_mode::full;
+  p.interp.eps = 0.05f;
+  p.trees = &trees;
+  p.reproj = &reproj;
+  const int width = 200, height = 150;
+  render_frame(pool, w, make_camera(w.sc.view, width, height), p);
+  ASSERT_GT(reproj.cells.size(), 100u);
+  // The next eye: stepped forward and turned a little, so cells land on new pixels.
+  camera_view v = w.sc.view;
+  v.from += 0.05f * glm::normalize(v.at - v.from), v.at.x += 0.2f;
+  const camera cam = make_camera(v, width, height);
+  const std::vector<cell_ref>& cells = reproj.cells;
+  std::vector<cell_trust> trusted(cells.size());
+  std::vector<pixel_rect> rects(cells.size());
+  for (size_t i = 0; i < cells.size(); ++i) {
+    trusted[i] = trust_from(w, cells[i], cam.origin);
+    if (trusted[i].ok) rects[i] = raster_rect(cam, cell_screen_box(cam, cells[i].lt->fp, *cells[i].node));
+  }
+  std::vector<std::int32_t> rows(size_t(width) * height), brute(size_t(width) * height, -1);
+  splat_rows(cam, cells, trusted, rects, 0, height, rows.data());
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (!trusted[i].ok) continue;
+    for (int y = rects[i].y0; y < rects[i].y1; ++y)
+      for (int x = rects[i].x0; x < rects[i].x1; ++x) {
+        float x4[4];
+        std::int32_t& o = brute[size_t(y) * width + size_t(x)];
+        if (o < 0 && eye_line_in_cell(cam, cells[i], x, y, x4)) o = std::int32_t(i);
+      }
+  }
+  size_t owned = 0, differ = 0;
+  for (size_t k = 0; k < rows.size(); ++k) owned += brute[k] >= 0, differ += rows[k] != brute[k];
+  EXPECT_GT(owned, rows.size() / 2) << "most pixels are reprojected";
+  EXPECT_LE(differ, rows.size() / 1000) << differ << " of " << owned << " owned pixels differ";
+}
+
 }  // namespace
 }  // namespace epsray

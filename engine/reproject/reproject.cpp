@@ -50,6 +50,79 @@ bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float 
   return line_in_cell(cam, c, eye_direction(cam, float(x), float(y)), x4);
 }
 
+namespace {
+
+// The pixels of one scan line whose lines lie in a cell, found per row instead of per pixel.
+// Along a row the unnormalized eye direction is linear in x, D(x) = P + x Q, and each test
+// of eye_line_in_cell becomes linear once multiplied by the ray's component along the
+// facepair's axis (positive in the cell): the facepair's dominance (two tests per other
+// axis, and the axis component's sign) and each of the four ranges (two tests each). So
+// the pixels in the cell form one run, the intersection of 13 half-lines g . D(x) >= 0.
+struct row_tests {
+  static constexpr int count = 13;
+  glm::dvec3 g[count];
+};
+
+row_tests cell_row_tests(const camera& cam, const cell_ref& c) {
+  const facepair& fp = c.lt->fp;
+  const lt_node& n = *c.node;
+  const double s = fp.index & 1 ? -1.0 : 1.0;
+  glm::dvec3 ea(0), eu(0), ev(0);
+  ea[fp.axis] = s, eu[fp.u] = 1, ev[fp.v] = 1;
+  row_tests t;
+  int k = 0;
+  t.g[k++] = ea;                         // the ray runs towards the back plane
+  t.g[k++] = ea - eu, t.g[k++] = ea + eu;  // |D_u| <= s D_a
+  t.g[k++] = ea - ev, t.g[k++] = ea + ev;
+  const glm::dvec3 o(cam.origin);
+  // Intercept with the plane at axis coordinate F along axis e: o_e + (F - o_a) D_e / D_a,
+  // within [lo, hi] when (o_e - lo) s D_a + (F - o_a) s D_e >= 0 and the mirror test.
+  auto range = [&](double plane, const glm::dvec3& e, int along, float lo, float hi) {
+    const double K = plane - o[fp.axis], oe = o[along];
+    t.g[k++] = (oe - double(lo)) * ea + K * s * e;
+    t.g[k++] = (double(hi) - oe) * ea - K * s * e;
+  };
+  range(fp.front, eu, fp.u, n.lo[0], n.hi[0]);
+  range(fp.front, ev, fp.v, n.lo[1], n.hi[1]);
+  range(fp.back, eu, fp.u, n.lo[2], n.hi[2]);
+  range(fp.back, ev, fp.v, n.lo[3], n.hi[3]);
+  return t;
+}
+
+// The run [xa, xb] of row y within [x0, x1) in the cell, empty when xa > xb. The solved
+// ends are checked, and moved by a pixel or two, with the per-pixel test itself, since
+// its float rounding decides membership there; inside the run no pixel is tested here
+// (fill_pixel tests its own line again, so a pixel rounding leaves out only takes the
+// interpolate path).
+void row_run(const camera& cam, const cell_ref& c, const row_tests& t, int y, int x0, int x1, int& xa, int& xb) {
+  const double cx = 0.5 * double(cam.width - 1), cy = 0.5 * double(cam.height - 1), step = cam.step;
+  const glm::dvec3 Q = step * glm::dvec3(cam.r);
+  const glm::dvec3 P = glm::dvec3(cam.w) - cx * Q + (cy - double(y)) * step * glm::dvec3(cam.u);
+  double lo = x0, hi = x1 - 1;
+  for (int k = 0; k < row_tests::count && lo <= hi; ++k) {
+    const double a = glm::dot(t.g[k], P), b = glm::dot(t.g[k], Q);
+    if (b > 0) lo = std::max(lo, -a / b);
+    else if (b < 0) hi = std::min(hi, -a / b);
+    else if (a < 0) hi = lo - 1;
+  }
+  xa = int(std::ceil(lo)), xb = int(std::floor(hi));
+  float x4[4];
+  auto in = [&](int x) { return x >= x0 && x < x1 && eye_line_in_cell(cam, c, x, y, x4); };
+  if (xa > xb) {
+    // Nothing solved, but rounding may still leave a pixel or two at the edge: none is
+    // worth finding, since such a pixel takes the interpolate path anyway.
+    xa = 1, xb = 0;
+    return;
+  }
+  while (xa <= xb && !in(xa)) ++xa;
+  while (xb >= xa && !in(xb)) --xb;
+  if (xa > xb) return;
+  for (int i = 0; i < 2 && in(xa - 1); ++i) --xa;
+  for (int i = 0; i < 2 && in(xb + 1); ++i) ++xb;
+}
+
+}  // namespace
+
 void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std::vector<cell_trust>& trusted,
                 const std::vector<pixel_rect>& rects, int y0, int y1, std::int32_t* owner) {
   std::fill(owner + size_t(y0) * size_t(cam.width), owner + size_t(y1) * size_t(cam.width), -1);
@@ -57,12 +130,14 @@ void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std
     if (!trusted[i].ok) continue;
     const pixel_rect& r = rects[i];
     const int ya = std::max(r.y0, y0), yb = std::min(r.y1, y1);
+    if (ya >= yb || r.x0 >= r.x1) continue;
+    const row_tests t = cell_row_tests(cam, cells[i]);
     for (int y = ya; y < yb; ++y) {
+      int xa, xb;
+      row_run(cam, cells[i], t, y, r.x0, r.x1, xa, xb);
       std::int32_t* row = owner + size_t(y) * size_t(cam.width);
-      for (int x = r.x0; x < r.x1; ++x) {
-        float x4[4];
-        if (row[x] < 0 && eye_line_in_cell(cam, cells[i], x, y, x4)) row[x] = std::int32_t(i);
-      }
+      for (int x = xa; x <= xb; ++x)
+        if (row[x] < 0) row[x] = std::int32_t(i);
     }
   }
 }
