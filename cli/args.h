@@ -27,7 +27,7 @@ struct cli_options {
   std::string png, pfm, stats, out_dir, reasons;
   std::string record, script, screenshot;  // view only
   float min_cell_pixels = 16;
-  float failed_split_pixels = 0;
+  std::optional<float> failed_split_pixels;  // unset: 0 at rest, 64 while the camera moves
   float defer_pixels = 256;
   bool four_way = true;
   bool pin = false;  // bind worker threads to cores (hwloc)

@@ -57,7 +57,7 @@ int run_walk(const cli_options& o) {
   world w = make_world(std::move(sc));
   std::unique_ptr<linetree_set> trees = make_linetrees(o, w);
   reprojection_state reproj;  // full: the cells carried to the next frame
-  const frame_params fp = make_frame_params(o, trees.get(), &reproj);
+  frame_params fp = make_frame_params(o, trees.get(), &reproj);
 
   run_record rec;
   rec.scene = o.scene, rec.mode = mode_name(o.mode), rec.width = width, rec.height = height, rec.threads = threads;
@@ -66,6 +66,7 @@ int run_walk(const cli_options& o) {
   const int count = int(path.frames.size());
   for (int k = 0; k < count; ++k) {
     const camera cam = make_camera(path.frames[size_t(k)], width, height);
+    fp.camera_moving = k > 0 && !same_camera(cam, make_camera(path.frames[size_t(k - 1)], width, height));
     frame_result fr = render_frame(pool, w, cam, fp);
     check_finite(fr.img);
     frame_record r{k, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms};

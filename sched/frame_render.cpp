@@ -115,6 +115,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   std::vector<tile_totals> totals(tiles.size());
   std::vector<ray_tree_store> trees(p.keep_ray_trees ? tiles.size() : 0);
   interp_frame f{&w, p.trees, &cam, p.interp};
+  if (p.camera_moving) f.p.failed_split_pixels = std::max(f.p.failed_split_pixels, f.p.moving_failed_split_pixels);
   // Full: last frame's cells from the new eye (each checked once, in parallel), then each
   // tile's pixels take the first containing trusted cell.
   std::vector<std::int32_t, no_init_allocator<std::int32_t>> owner;  // splat_rows fills each tile's rows

@@ -54,6 +54,8 @@ struct frame_params {
                                    // (its memory budget is enforced after each frame)
   reprojection_state* reproj = nullptr;  // kept between frames by the caller; needed by full
   int tile_rows = 0;               // 0: default_tile_rows
+  bool camera_moving = false;      // the camera differs from the last frame's (interp_params::
+                                   // moving_failed_split_pixels applies)
   bool keep_ray_trees = false;     // base: fill frame_result::trees, one per pixel, raster order
   bool reasons = false;            // fill frame_result::reasons (the error-coded image)
   // The baselines' one knob each.

@@ -66,6 +66,7 @@ walk_result walk_full(const world& w, const std::vector<camera_view>& views, int
   walk_result out;
   for (size_t k = 0; k < views.size(); ++k) {
     const camera cam = make_camera(views[k], width, height);
+    p.camera_moving = k > 0 && !same_camera(cam, make_camera(views[k - 1], width, height));
     frame_result fr = render_frame(pool, w, cam, p);
     if (verify) {
       verify_result vr = verify_frame(pool, w, cam, fr.img, eps);
@@ -251,6 +252,37 @@ TEST(Reprojection, RowRunsOwnThePixelsThePerPixelTestWould) {
   for (size_t k = 0; k < rows.size(); ++k) owned += brute[k] >= 0, differ += rows[k] != brute[k];
   EXPECT_GT(owned, rows.size() / 2) << "most pixels are reprojected";
   EXPECT_LE(differ, rows.size() / 1000) << differ << " of " << owned << " owned pixels differ";
+}
+
+// While the camera moves, cells refused for an edge are not split below
+// moving_failed_split_pixels: fewer cells are built along edges and more of their pixels
+// are traced; a resting camera splits them as before. Both stay within epsilon.
+TEST(Reprojection, AMovingCameraBuildsFewerEdgeCellsThanARestingOne) {
+  world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/artroom.nff"));
+  camera_view moved = w.sc.view;
+  moved.from += 0.05f * glm::normalize(moved.at - moved.from), moved.at.x += 0.1f;
+  const int width = 320, height = 240;
+  struct run {
+    std::uint64_t traced = 0;
+    size_t bytes = 0;
+  };
+  auto second_frame = [&](bool moving) {
+    linetree_set trees(w.prim_bounds);
+    reprojection_state reproj;
+    workers pool(2);
+    frame_params p;
+    p.mode = render_mode::full, p.interp.eps = 0.05f, p.trees = &trees, p.reproj = &reproj;
+    render_frame(pool, w, make_camera(w.sc.view, width, height), p);
+    p.camera_moving = moving;
+    const camera cam = make_camera(moved, width, height);
+    const frame_result fr = render_frame(pool, w, cam, p);
+    const verify_result vr = verify_frame(pool, w, cam, fr.img, 0.05f);
+    EXPECT_EQ(vr.violations, 0u) << (moving ? "moving" : "resting") << ", max error " << vr.max_rel_err;
+    return run{fr.pixels.base, trees.bytes()};
+  };
+  const run resting = second_frame(false), moving = second_frame(true);
+  EXPECT_GT(moving.traced, resting.traced);
+  EXPECT_LT(moving.bytes, resting.bytes);
 }
 
 }  // namespace

@@ -150,7 +150,7 @@ int run_view(const cli_options& given) {
       const bool cells = st.mode == display_mode::cells;
       const bool display_changed = cells != last.cells || (cells && (st.pick_x != last.pick_x || st.pick_y != last.pick_y));
       if (scripted ? render : changed || next_camera || eps != last.eps || display_changed) {
-        last.id = renderer.request({st.view, eps, cells, st.pick_x, st.pick_y});
+        last.id = renderer.request({st.view, eps, cells, st.pick_x, st.pick_y, moving});
         last.any = true, last.view = st.view, last.eps = eps;
         last.cells = cells, last.pick_x = st.pick_x, last.pick_y = st.pick_y;
       }

@@ -74,7 +74,7 @@ void render_thread::loop() {
     }
     try {
       frame_params fp = fp_;
-      fp.interp.eps = r.eps;
+      fp.interp.eps = r.eps, fp.camera_moving = r.moving;
       const camera cam = make_camera(r.view, width_, height_);
       const frame_result fr = render_frame(pool_, w_, cam, fp);
       fill_shown_frame(fr, work);

@@ -21,6 +21,7 @@ struct render_request {
   float eps = 0;
   bool cells = false;           // paint the cells display (it costs a visibility ray a pixel)
   float pick_x = 0.5f, pick_y = 0.5f;  // its object: under this point, fractions of the image
+  bool moving = false;          // the camera moves (frame_params::camera_moving)
 };
 
 class render_thread {

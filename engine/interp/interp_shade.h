@@ -17,6 +17,11 @@ struct interp_params {
   float eps = 0.05f;
   float min_cell_pixels = 16;  // no subdivision into children covering fewer pixels
   float failed_split_pixels = 0;  // ... nor, after a discontinuity or a miss, fewer than these
+  // The same floor while the camera moves (frame_params::camera_moving): children of a cell
+  // refused for an edge mostly fail too, and a moving eye needs new ones along every edge
+  // each frame, so there building them costs more than tracing their pixels; a resting
+  // camera builds them once and keeps them.
+  float moving_failed_split_pixels = 64;
   float max_cell_pixels = 4096;  // larger cells are subdivided without building an interpolant
   float defer_pixels = 256;    // cells under these pixels may leave lights and secondary
                                // rays they cannot prove to per-pixel rays
