@@ -105,15 +105,16 @@ void row_run(const camera& cam, const cell_ref& c, const row_tests& t, int y, in
     else if (b < 0) hi = std::min(hi, -a / b);
     else if (a < 0) hi = lo - 1;
   }
-  xa = int(std::ceil(lo)), xb = int(std::floor(hi));
-  float x4[4];
-  auto in = [&](int x) { return x >= x0 && x < x1 && eye_line_in_cell(cam, c, x, y, x4); };
-  if (xa > xb) {
-    // Nothing solved, but rounding may still leave a pixel or two at the edge: none is
-    // worth finding, since such a pixel takes the interpolate path anyway.
+  // Nothing solved (rounding may still leave a pixel or two at the edge: none is worth
+  // finding, since such a pixel takes the interpolate path anyway). Checked before the
+  // conversion to int: a nearly flat test moves an end far outside int's range.
+  if (!(lo <= hi)) {
     xa = 1, xb = 0;
     return;
   }
+  xa = int(std::ceil(lo)), xb = int(std::floor(hi));  // both in [x0, x1 - 1] now
+  float x4[4];
+  auto in = [&](int x) { return x >= x0 && x < x1 && eye_line_in_cell(cam, c, x, y, x4); };
   while (xa <= xb && !in(xa)) ++xa;
   while (xb >= xa && !in(xb)) --xb;
   if (xa > xb) return;
