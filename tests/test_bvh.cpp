@@ -17,15 +17,9 @@ namespace {
 
 using rng_t = std::mt19937;
 
-float uniform(rng_t& g, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(g); }
-vec3 uniform_vec(rng_t& g, float lo, float hi) { return {uniform(g, lo, hi), uniform(g, lo, hi), uniform(g, lo, hi)}; }
-vec3 unit_vec(rng_t& g) {
-  for (;;) {
-    vec3 v = uniform_vec(g, -1, 1);
-    float l = glm::length(v);
-    if (l > 0.1f && l <= 1) return v / l;
-  }
-}
+using test::uniform;
+using test::uniform_vec;
+using test::unit_vec;
 // A random rotation; one time in four the identity (axis-aligned shapes have flat boxes).
 glm::mat3 frame(rng_t& g) {
   if (g() % 4 == 0) return glm::mat3(1.0f);

@@ -9,26 +9,20 @@
 
 #include "accel/world.h"
 #include "predicate/shaft_shape.h"
+#include "test_util.h"
 
 namespace epsray {
 namespace {
 
 using rng = std::mt19937;
 
-float uniform(rng& g, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(g); }
-vec3 uniform3(rng& g, float lo, float hi) { return vec3(uniform(g, lo, hi), uniform(g, lo, hi), uniform(g, lo, hi)); }
-
-vec3 unit(rng& g) {
-  for (;;) {
-    vec3 v = uniform3(g, -1, 1);
-    float l = glm::length(v);
-    if (l > 0.1f && l <= 1) return v / l;
-  }
-}
+using test::uniform;
+using test::uniform_vec;
+using test::unit_vec;
 
 // A rotation about a random axis (rows orthonormal to float precision).
 glm::mat3 rotation(rng& g) {
-  const vec3 a = unit(g);
+  const vec3 a = unit_vec(g);
   const float t = uniform(g, 0, 6.2831853f), c = std::cos(t), s = std::sin(t);
   glm::mat3 r;
   for (int i = 0; i < 3; ++i)
@@ -49,7 +43,7 @@ world one_primitive(rng& g, kind k) {
   sc.materials.push_back(material{});
   primitive p;
   p.material = 0;
-  const vec3 c = uniform3(g, -0.3f, 0.3f);
+  const vec3 c = uniform_vec(g, -0.3f, 0.3f);
   switch (k) {
     case kind::sphere:
       p.kind = prim_kind::sphere, p.a = c, p.r0 = uniform(g, 0.1f, 1.0f) * (g() % 4 ? 1.0f : -1.0f);
@@ -58,7 +52,7 @@ world one_primitive(rng& g, kind k) {
     case kind::cone:
     case kind::apex_cone: {
       p.kind = prim_kind::cone;
-      const vec3 axis = unit(g) * uniform(g, 0.3f, 2.5f);
+      const vec3 axis = unit_vec(g) * uniform(g, 0.3f, 2.5f);
       p.a = c - 0.5f * axis, p.b = c + 0.5f * axis;
       p.r0 = uniform(g, 0.05f, 0.8f);
       p.r1 = k == kind::cylinder ? p.r0 : k == kind::cone ? uniform(g, 0.05f, 0.8f) : 0.0f;
@@ -77,10 +71,10 @@ world one_primitive(rng& g, kind k) {
       }
       break;
     }
-    case kind::disk: p.kind = prim_kind::disk, p.a = c, p.b = unit(g), p.r0 = uniform(g, 0.1f, 1.2f); break;
+    case kind::disk: p.kind = prim_kind::disk, p.a = c, p.b = unit_vec(g), p.r0 = uniform(g, 0.1f, 1.2f); break;
     case kind::box:
     case kind::count:
-      p.kind = prim_kind::box, p.a = c, p.b = uniform3(g, 0.05f, 0.9f), p.frame = rotation(g);
+      p.kind = prim_kind::box, p.a = c, p.b = uniform_vec(g, 0.05f, 0.9f), p.frame = rotation(g);
       break;
   }
   sc.prims.push_back(p);
@@ -89,8 +83,8 @@ world one_primitive(rng& g, kind k) {
 
 // A box near the primitive: solid, flat (a patch on a surface) or a point (a light, an eye).
 bounds random_end(rng& g, float spread) {
-  const vec3 c = uniform3(g, -spread, spread);
-  vec3 e = uniform3(g, 0, 0.8f);
+  const vec3 c = uniform_vec(g, -spread, spread);
+  vec3 e = uniform_vec(g, 0, 0.8f);
   switch (g() % 4) {
     case 0: e = vec3(0); break;
     case 1: e[int(g() % 3)] = 0; break;

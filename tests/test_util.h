@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -88,6 +89,18 @@ inline std::string read_file(const std::string& path) {
 
 inline world world_from_text(std::string_view text, const std::string& name = "test.nff") {
   return make_world(parse_scene(text, name, ""));
+}
+
+// Draws for the property tests, from a seeded std::mt19937.
+inline float uniform(std::mt19937& g, float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(g); }
+inline vec3 uniform_vec(std::mt19937& g, float lo, float hi) { return {uniform(g, lo, hi), uniform(g, lo, hi), uniform(g, lo, hi)}; }
+// A unit vector, uniform over directions (rejection in the unit ball).
+inline vec3 unit_vec(std::mt19937& g) {
+  for (;;) {
+    vec3 v = uniform_vec(g, -1, 1);
+    float l = glm::length(v);
+    if (l > 0.1f && l <= 1) return v / l;
+  }
 }
 
 }  // namespace epsray::test
