@@ -64,9 +64,11 @@ int run_walk(const cli_options& o) {
   rec.eps = o.eps;
   double io_ms = 0;  // file writing is not part of total_ms (contract)
   const int count = int(path.frames.size());
+  camera last;  // the previous frame's
   for (int k = 0; k < count; ++k) {
     const camera cam = make_camera(path.frames[size_t(k)], width, height);
-    fp.camera_moving = k > 0 && !same_camera(cam, make_camera(path.frames[size_t(k - 1)], width, height));
+    fp.camera_moving = k > 0 && !same_camera(cam, last);
+    last = cam;
     frame_result fr = render_frame(pool, w, cam, fp);
     check_finite(fr.img);
     frame_record r{k, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms};
