@@ -185,7 +185,7 @@ TEST(Reprojection, CellIsTrustedWithTheOccludersItsPixelsMustTest) {
     if (w.shapes[i].kind != shape_kind::sphere) wall = int(i);
   ASSERT_GE(wall, 0);
   const glm::vec3 d = glm::normalize(target - cam.origin);
-  linetree& lt = trees.get(wall, facepair_of(d));
+  linetree& lt = trees.tree_for(wall, d);
   float x4[4];
   line_coords(lt.fp, cam.origin, d, x4);
   lt_node* n = &lt.root;

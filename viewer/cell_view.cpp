@@ -31,7 +31,7 @@ const lt_node* leaf_of(const world& w, const camera& cam, linetree_set& trees, i
   const ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
   hit h;
   if (!closest_hit(w, r, std::numeric_limits<float>::infinity(), h) || h.prim != prim) return nullptr;
-  const linetree& lt = trees.get(prim, facepair_of(r.d));
+  const linetree& lt = trees.tree_for(prim, r.d);
   float x4[4];
   line_coords(lt.fp, r.o, r.d, x4);
   if (!holds(lt.root, x4)) return nullptr;

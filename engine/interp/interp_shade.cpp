@@ -310,7 +310,7 @@ pixel_line find_pixel_line(const interp_frame& f, int x, int y, trace_state& st,
   // --eps 0 is exactly the base tracer; a line whose first hit is not the eye ray's, or
   // that rounding puts outside the root, is traced.
   if (f.p.eps > 0) {
-    linetree& lt = f.trees->get(pl.h.prim, facepair_of(pl.r.d));
+    linetree& lt = f.trees->tree_for(pl.h.prim, pl.r.d);
     line_coords(lt.fp, pl.r.o, pl.r.d, pl.x4);
     if (same_first_hit(w.shapes[size_t(pl.h.prim)], lt.fp, cam.origin) && holds(lt.root, pl.x4)) {
       pl.lt = &lt;

@@ -83,6 +83,8 @@ linetree_set::linetree_set(const std::vector<bounds>& prim_bounds, size_t memory
       samples_(line_capacity(memory_budget, pixels), memory_budget ? std::size_t(1) << 13 : std::size_t(1) << 16) {
   for (size_t i = 0; i < count_; ++i)
     for (auto& t : trees_[i]) t.store(nullptr, std::memory_order_relaxed);
+  flat_.reserve(count_);
+  for (const bounds& b : bounds_) flat_.push_back(std::int8_t(flat_axis(b)));
 }
 
 linetree_set::~linetree_set() {

@@ -84,6 +84,10 @@ class linetree_set {
   explicit linetree_set(const std::vector<bounds>& prim_bounds, size_t memory_budget = 0, size_t pixels = 0);
   ~linetree_set();
   linetree& get(int prim, int facepair_index);
+  // The facepair of prim holding a line of direction d (facepair_for).
+  int facepair_index(int prim, glm::vec3 d) const { return facepair_for(flat_[size_t(prim)], d); }
+  // The tree holding the line of direction d.
+  linetree& tree_for(int prim, glm::vec3 d) { return get(prim, facepair_index(prim, d)); }
   // Nodes, interpolants and the caches: kept by counting what is published and freed, so
   // the stats of every frame need not walk the trees.
   size_t bytes() const;
@@ -107,6 +111,7 @@ class linetree_set {
 
  private:
   std::vector<bounds> bounds_;  // a copy: small, and no lifetime tie to the world
+  std::vector<std::int8_t> flat_;  // flat_axis of each
   size_t budget_ = 0;
   std::uint32_t frame_ = 1;
   std::unique_ptr<std::array<std::atomic<linetree*>, 6>[]> trees_;

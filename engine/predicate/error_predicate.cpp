@@ -107,6 +107,7 @@ struct evaluator {
   const ray_tree& tree;
   cell_reason fail = cell_reason::valid;
   double far = 0;  // farther than any scene point from any ray origin we see
+  const jv* root_span = nullptr;  // the cell's lines, front point to back point (unnormalized)
   bounds root_hits{};  // where the cell's lines meet the object
   std::uint32_t deferred = 0;  // the root's lights left to per-pixel shadow rays
   std::uint32_t deferred_rays = 0;  // ... and its subtrees left to per-pixel rays
@@ -154,13 +155,14 @@ struct evaluator {
 
   // The family o + t d hits primitive `prim` at its first surface with t > 0, for every ray
   // of the cell (else the cell has a gap or changes sheet).
-  bool intersect(int prim, const jv& o, const jv& d, surface_family& s) {
+  // span, when given, is the family's unnormalized direction (d = span / |span|).
+  bool intersect(int prim, const jv& o, const jv& d, const jv* span, surface_family& s) {
     const shape& sh = w.shapes[size_t(prim)];
     switch (sh.kind) {
       case shape_kind::sphere: return hit_sphere(sh.sphere, o, d, s);
-      case shape_kind::triangle: return hit_plane(prim, o, d, s);
-      case shape_kind::polygon: return hit_plane(prim, o, d, s);
-      case shape_kind::disk: return hit_plane(prim, o, d, s);
+      case shape_kind::triangle: return hit_plane(prim, o, span ? *span : d, s);
+      case shape_kind::polygon: return hit_plane(prim, o, span ? *span : d, s);
+      case shape_kind::disk: return hit_plane(prim, o, span ? *span : d, s);
       case shape_kind::cone: return hit_cone(sh.cone, o, d, s);
       case shape_kind::box: return hit_box(sh.box, o, d, s);
     }
@@ -183,6 +185,9 @@ struct evaluator {
     return true;
   }
 
+  // d need not be unit: the point o + d t does not depend on its length, and the cell's
+  // own lines, given by the unnormalized front-to-back span, meet a plane parallel to the
+  // facepair's at points affine in (a, b, c, d), with no normalization's range to widen.
   bool hit_plane(int prim, const jv& o, const jv& d, surface_family& s) {
     const primitive& pr = w.sc.prims[size_t(w.info[size_t(prim)].source)];
     glm::dvec3 n, anchor;
@@ -548,7 +553,7 @@ struct evaluator {
     }
     const int prim = w.shape_of[size_t(n.prim)];
     surface_family sf;
-    if (!intersect(prim, o, d, sf)) return false;
+    if (!intersect(prim, o, d, from < 0 ? root_span : nullptr, sf)) return false;
     if (sf.box.empty()) sf.box = box_of(sf.p);
     if (from < 0) root_hits = sf.box;
     if (from >= 0) {  // a secondary segment: nothing but its ends in its shaft
@@ -559,7 +564,9 @@ struct evaluator {
     if (kind == shape_kind::cone && (pr.r0 < 0 || pr.r1 < 0)) sf.ng = -sf.ng;
     jv ns = sf.ng;
     if (pr.kind == prim_kind::patch && !patch_normal(pr, sf.p, ns)) return false;
-    djet dng = dot(sf.ng, d);
+    // The sign of d . n is that of span . n, which is exact for a plane's flat facepair
+    // (a constant) where the normalized d spreads.
+    djet dng = dot(sf.ng, from < 0 && root_span ? *root_span : d);
     bool entering = n.entering != 0;
     if (entering ? !negative(dng) : !positive(dng)) return reject(cell_reason::discontinuity);
     jv nf = entering ? ns : -ns;
@@ -716,7 +723,9 @@ cell_bound bound_cell(const cell_query& q) {
   djet c = djet_variable(2, q.lo[2], q.hi[2]), d = djet_variable(3, q.lo[3], q.hi[3]);
   o[fp.axis] = djet(double(fp.front)), o[fp.u] = a, o[fp.v] = b;
   p1[fp.axis] = djet(double(fp.back)), p1[fp.u] = c, p1[fp.v] = d;
-  jv dir = normalize(p1 - o);
+  const jv span = p1 - o;
+  ev.root_span = &span;
+  jv dir = normalize(span);
 
   djet L[3], tf[3];
   cell_bound out;

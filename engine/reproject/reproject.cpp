@@ -40,7 +40,7 @@ cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye) {
 namespace {
 // The line of the eye ray with direction d, in the cell's facepair coordinates.
 bool line_in_cell(const camera& cam, const cell_ref& c, glm::vec3 d, float x4[4]) {
-  if (facepair_of(d) != c.lt->fp.index) return false;  // the line, run the other way
+  if (facepair_for(c.lt->fp.flat, d) != c.lt->fp.index) return false;  // run the other way, or another facepair's
   line_coords(c.lt->fp, cam.origin, d, x4);
   return holds(*c.node, x4);
 }
@@ -56,10 +56,12 @@ namespace {
 // Along a row the unnormalized eye direction is linear in x, D(x) = P + x Q, and each test
 // of eye_line_in_cell becomes linear once multiplied by the ray's component along the
 // facepair's axis (positive in the cell): the facepair's dominance (two tests per other
-// axis, and the axis component's sign) and each of the four ranges (two tests each). So
-// the pixels in the cell form one run, the intersection of 13 half-lines g . D(x) >= 0.
+// axis, and the axis component's sign), for a flat object's other facepairs that the line
+// is flatter than flat_slope (two tests), and each of the four ranges (two tests each).
+// So the pixels in the cell form one run, the intersection of 15 half-lines g . D(x) >= 0
+// (a zero g: no test).
 struct row_tests {
-  static constexpr int count = 13;
+  static constexpr int count = 15;
   glm::dvec3 g[count];
 };
 
@@ -72,8 +74,16 @@ row_tests cell_row_tests(const camera& cam, const cell_ref& c) {
   row_tests t;
   int k = 0;
   t.g[k++] = ea;                         // the ray runs towards the back plane
-  t.g[k++] = ea - eu, t.g[k++] = ea + eu;  // |D_u| <= s D_a
-  t.g[k++] = ea - ev, t.g[k++] = ea + ev;
+  const double slope = fp.flat == fp.axis ? double(flat_slope) : 1.0;
+  t.g[k++] = slope * ea - eu, t.g[k++] = slope * ea + eu;  // |D_u| <= slope s D_a
+  t.g[k++] = slope * ea - ev, t.g[k++] = slope * ea + ev;
+  if (fp.flat >= 0 && fp.flat != fp.axis) {  // s D_a > flat_slope |D_flat|: not the flat facepair's
+    glm::dvec3 ef(0);
+    ef[fp.flat] = flat_slope;
+    t.g[k++] = ea - ef, t.g[k++] = ea + ef;
+  } else {
+    t.g[k++] = glm::dvec3(0), t.g[k++] = glm::dvec3(0);
+  }
   const glm::dvec3 o(cam.origin);
   // Intercept with the plane at axis coordinate F along axis e: o_e + (F - o_a) D_e / D_a,
   // within [lo, hi] when (o_e - lo) s D_a + (F - o_a) s D_e >= 0 and the mirror test.
