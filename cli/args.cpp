@@ -52,6 +52,7 @@ std::string usage_text() {
          "extra: --tile-rows N (rows per tile), --quiet (no summary on stdout),\n"
          "       --reasons OUT.png (render: the error-coded image), --verify (render too),\n"
          "       --min-cell-pixels P (no linetree cell is split into children covering fewer pixels),\n"
+         "       --min-prim-pixels P (primitives whose box covers fewer pixels are traced; default 1024),\n"
          "       --split 4|16 (halve the axes a failure points at, or always all four),\n"
          "       --defer-pixels P (cells under P pixels may trace the lights and secondary rays they\n"
          "       cannot prove per pixel; default 256), --failed-split-pixels P (cells refused for a\n"
@@ -110,6 +111,7 @@ cli_options parse_args(const std::vector<std::string>& a) {
     else if (f == "--verify") o.verify = true;
     else if (f == "--reasons" && !walk) o.reasons = value();
     else if (f == "--min-cell-pixels") o.min_cell_pixels = float(to_number("--min-cell-pixels", value(), 0, 1e9));
+    else if (f == "--min-prim-pixels") o.min_prim_pixels = float(to_number("--min-prim-pixels", value(), 0, 1e9));
     else if (f == "--failed-split-pixels")
       o.failed_split_pixels = float(to_number("--failed-split-pixels", value(), 0, 1e9));
     else if (f == "--defer-pixels")

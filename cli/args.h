@@ -27,6 +27,7 @@ struct cli_options {
   std::string png, pfm, stats, out_dir, reasons;
   std::string record, script, screenshot;  // view only
   float min_cell_pixels = 16;
+  float min_prim_pixels = 1024;
   std::optional<float> failed_split_pixels;  // unset: 0 at rest, 64 while the camera moves
   float defer_pixels = 256;
   bool four_way = true;

@@ -116,6 +116,18 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   std::vector<ray_tree_store> trees(p.keep_ray_trees ? tiles.size() : 0);
   interp_frame f{&w, p.trees, &cam, p.interp};
   if (p.camera_moving) f.p.failed_split_pixels = std::max(f.p.failed_split_pixels, f.p.moving_failed_split_pixels);
+  // Primitives too small on screen to be worth linetrees (interp and full): a function of
+  // the camera alone, like every cost-model choice, so images do not depend on threads.
+  std::vector<std::uint8_t> small;
+  if ((p.mode == render_mode::interp || p.mode == render_mode::full) && f.p.min_prim_pixels > 0) {
+    small.resize(w.prim_bounds.size());
+    pool.run([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, small.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+        small_primitives(w, cam, f.p.min_prim_pixels, r.begin(), r.end(), small.data());
+      });
+    });
+    f.small = small.data();
+  }
   // Full: last frame's cells from the new eye (each checked once, in parallel), then each
   // tile's pixels take the first containing trusted cell.
   std::vector<std::int32_t, no_init_allocator<std::int32_t>> owner;  // splat_rows fills each tile's rows

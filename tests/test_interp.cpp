@@ -272,6 +272,85 @@ TEST(CellScreen, BoundedByEitherFaceAndHoldsEveryPixelOfTheCell) {
   check_cells_on_screen(eye_in_flat_slab, false);
 }
 
+TEST(CellScreen, BoxPixelsCountsWhatABoxMayCoverOfTheImage) {
+  camera_view v;
+  v.from = glm::vec3(0, 0, 5), v.at = glm::vec3(0), v.up = glm::vec3(0, 1, 0), v.angle = 90;
+  const camera cam = make_camera(v, 200, 100);
+  // A unit cube 4.5 to 5.5 units ahead: about 11 pixels across (a 90-degree view 100 high),
+  // widened by a pixel each side.
+  const float ahead = box_pixels(cam, bounds{glm::vec3(-0.5f), glm::vec3(0.5f)});
+  EXPECT_GT(ahead, 12.f * 12.f);
+  EXPECT_LT(ahead, 14.f * 14.f);
+  EXPECT_EQ(box_pixels(cam, bounds{glm::vec3(100, -0.5f, -0.5f), glm::vec3(101, 0.5f, 0.5f)}), 0.f) << "off screen";
+  EXPECT_TRUE(std::isinf(box_pixels(cam, bounds{glm::vec3(-1, -1, 4), glm::vec3(1, 1, 6)}))) << "around the eye";
+  EXPECT_LE(box_pixels(cam, bounds{glm::vec3(-50, -50, -1), glm::vec3(50, 50, 1)}), 202.f * 102.f) << "clipped";
+}
+
+TEST(InterpMode, PrimitivesSmallOnScreenAreTracedWithoutLinetrees) {
+  // A large sphere on a floor, and a row of small ones (about 25 pixels across at 200x150,
+  // their boxes under 1024 pixels).
+  world w = world_of(R"(
+v
+from 0 1.5 6
+at 0 0.5 0
+up 0 1 0
+angle 45
+hither 0.01
+resolution 200 150
+l 3 6 5
+f 0.8 0.6 0.4 0.8 0.1 20 0 1
+s 0 1 0 1
+s -2.6 0.35 1 0.35
+s -1.6 0.35 1 0.35
+s 1.6 0.35 1 0.35
+s 2.6 0.35 1 0.35
+f 0.8 0.8 0.8 0.8 0 0 0 1
+p 4
+-6 0 -6
+6 0 -6
+6 0 6
+-6 0 6
+)");
+  const camera cam = make_camera(w.sc.view, 200, 150);
+  auto run = [&](float min_prim_pixels) {
+    linetree_set trees(w.prim_bounds);
+    workers pool(2);
+    frame_params p;
+    p.mode = render_mode::interp;
+    p.interp.eps = 0.05f;
+    p.interp.min_prim_pixels = min_prim_pixels;
+    p.trees = &trees;
+    p.reasons = true;
+    frame_result fr = render_frame(pool, w, cam, p);
+    EXPECT_EQ(verify_frame(pool, w, cam, fr.img, 0.05f).violations, 0u);
+    return fr;
+  };
+  const frame_result all = run(0), big = run(1024);
+  const glm::vec3 traced = reason_colour(pixel_reason::traced), interpolated = reason_colour(pixel_reason::interpolated);
+  int small_px = 0, small_interp_all = 0, small_interp_big = 0, large_interp_all = 0, large_interp_big = 0;
+  for (int y = 0; y < cam.height; ++y) {
+    for (int x = 0; x < cam.width; ++x) {
+      hit h;
+      if (!closest_hit(w, make_ray(cam.origin, eye_direction(cam, float(x), float(y))), INFINITY, h)) continue;
+      const bool small = box_pixels(cam, w.prim_bounds[size_t(h.prim)]) < 1024;
+      const bool a = all.reasons.at(x, y) == interpolated, b = big.reasons.at(x, y) == interpolated;
+      if (small) {
+        ++small_px, small_interp_all += a, small_interp_big += b;
+        EXPECT_EQ(big.reasons.at(x, y), traced) << x << "," << y;
+      } else {
+        large_interp_all += a, large_interp_big += b;
+      }
+    }
+  }
+  EXPECT_GT(small_px, 200) << "the scene must show the small spheres";
+  EXPECT_EQ(small_interp_big, 0);
+  // Without the limit their cells were built (16 corner lines each) only to fail: at this
+  // size an object is mostly silhouette.
+  EXPECT_EQ(small_interp_all, 0);
+  EXPECT_LT(big.rays.eye + 500, all.rays.eye) << "no corner lines for the small spheres";
+  EXPECT_EQ(large_interp_big, large_interp_all) << "the large objects are not affected";
+}
+
 TEST(InterpMode, EyeOnAFacepairPlaneDoesNotSplitCellsToTheDepthLimit) {
   // Before either face could bound a cell's box, every cell crossing the eye's plane looked
   // infinitely large and was split down to max_depth: 15 corner lines per pixel and 720 MB

@@ -54,6 +54,23 @@ float cell_pixels(const camera& cam, const facepair& fp, const lt_node& n) {
   return b.empty() ? 0 : (b.x1 - b.x0) * (b.y1 - b.y0);
 }
 
+float box_pixels(const camera& cam, const bounds& b) {
+  float x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  for (int k = 0; k < 8; ++k) {
+    const glm::vec3 p{(k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z};
+    const glm::vec3 q = p - cam.origin;
+    const float z = glm::dot(q, cam.w);
+    if (!(z > 0)) return std::numeric_limits<float>::infinity();
+    const float px = glm::dot(q, cam.r) / (z * cam.step), py = glm::dot(q, cam.u) / (z * cam.step);
+    x0 = std::min(x0, px), x1 = std::max(x1, px), y0 = std::min(y0, py), y1 = std::max(y1, py);
+  }
+  // Pixel centres lie within half the image of its centre; a pixel beyond the box's edge
+  // may still hold a ray that meets it.
+  const float hx = 0.5f * float(cam.width), hy = 0.5f * float(cam.height);
+  const float w = std::min(x1 + 1, hx) - std::max(x0 - 1, -hx), h = std::min(y1 + 1, hy) - std::max(y0 - 1, -hy);
+  return w > 0 && h > 0 ? w * h : 0;
+}
+
 pixel_rect raster_rect(const camera& cam, const screen_box& b) {
   pixel_rect r;
   if (!b.bounded) return pixel_rect{0, 0, cam.width, cam.height};

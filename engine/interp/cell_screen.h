@@ -20,6 +20,10 @@ screen_box cell_screen_box(const camera& cam, const facepair& fp, const lt_node&
 // Pixels whose eye rays may fall in the cell (an overestimate); infinite when unbounded.
 float cell_pixels(const camera& cam, const facepair& fp, const lt_node& n);
 
+// Pixels of the image that a box may cover: its corners' projections' bounding rectangle,
+// clipped to the image; infinite when a corner is not in front of the eye.
+float box_pixels(const camera& cam, const bounds& b);
+
 // Raster rows and columns, half-open, that hold the pixel centres of a box, widened by a
 // pixel against rounding and clamped to the image.
 struct pixel_rect {

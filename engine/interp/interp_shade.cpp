@@ -284,6 +284,11 @@ bool interpolate_line(const world& w, int prim, const lt_node& n, const interpol
   return within(L, E, eps);
 }
 
+void small_primitives(const world& w, const camera& cam, float min_pixels, size_t first, size_t last,
+                      std::uint8_t* small) {
+  for (size_t i = first; i < last; ++i) small[i] = box_pixels(cam, w.prim_bounds[i]) < min_pixels;
+}
+
 glm::vec3 reason_colour(pixel_reason r) {
   switch (r) {
     case pixel_reason::interpolated: return {0.55f, 0.62f, 0.78f};
@@ -309,7 +314,7 @@ pixel_line find_pixel_line(const interp_frame& f, int x, int y, trace_state& st,
   }
   // --eps 0 is exactly the base tracer; a line whose first hit is not the eye ray's, or
   // that rounding puts outside the root, is traced.
-  if (f.p.eps > 0) {
+  if (f.p.eps > 0 && !(f.small && f.small[pl.h.prim])) {
     linetree& lt = f.trees->tree_for(pl.h.prim, pl.r.d);
     line_coords(lt.fp, pl.r.o, pl.r.d, pl.x4);
     if (same_first_hit(w.shapes[size_t(pl.h.prim)], lt.fp, cam.origin) && holds(lt.root, pl.x4)) {

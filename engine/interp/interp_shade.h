@@ -26,6 +26,10 @@ struct interp_params {
   float defer_pixels = 256;    // cells under these pixels may leave lights and secondary
                                // rays they cannot prove to per-pixel rays
   int max_depth = 16;          // halvings of any axis below the root (floats keep ~7 digits)
+  // Primitives whose box covers fewer pixels on screen are traced, with no linetree: the
+  // 16 corner lines and the bound of each cell cost more than a few dozen pixels save,
+  // and an object that small is mostly silhouette (an SPD scene's thousand triangles).
+  float min_prim_pixels = 1024;
   bool four_way = true;        // halve only the axes the failure points at (section 8.6)
 };
 
@@ -56,7 +60,15 @@ struct interp_frame {
   linetree_set* trees = nullptr;
   const camera* cam = nullptr;
   interp_params p;
+  // Per primitive, nonzero when its box covers under p.min_prim_pixels on screen
+  // (small_primitives); null: none is.
+  const std::uint8_t* small = nullptr;
 };
+
+// Marks the primitives whose boxes cover fewer than min_pixels pixels of the image from
+// this camera (box_pixels), for interp_frame::small.
+void small_primitives(const world& w, const camera& cam, float min_pixels, size_t first, size_t last,
+                      std::uint8_t* small);
 
 // A cell that gave pixels their radiance: what reprojection carries to the next frame.
 struct cell_ref {
