@@ -6,6 +6,13 @@
 
 namespace epsray {
 
+namespace {
+// Screen coordinates (pixels from the image centre) of the point at q from the eye, z = q . w > 0.
+inline void project(const camera& cam, glm::vec3 q, float z, float& px, float& py) {
+  px = glm::dot(q, cam.r) / (z * cam.step), py = glm::dot(q, cam.u) / (z * cam.step);
+}
+}  // namespace
+
 screen_box cell_screen_box(const camera& cam, const facepair& fp, const lt_node& n) {
   float x0[2] = {-INFINITY, -INFINITY}, x1[2] = {INFINITY, INFINITY};
   float y0[2] = {-INFINITY, -INFINITY}, y1[2] = {INFINITY, INFINITY};
@@ -29,7 +36,8 @@ screen_box cell_screen_box(const camera& cam, const facepair& fp, const lt_node&
         break;
       }
       if (behind) q = -q, z = -z;
-      float px = glm::dot(q, cam.r) / (z * cam.step), py = glm::dot(q, cam.u) / (z * cam.step);
+      float px, py;
+      project(cam, q, z, px, py);
       fx0 = std::min(fx0, px), fx1 = std::max(fx1, px);
       fy0 = std::min(fy0, py), fy1 = std::max(fy1, py);
     }
@@ -61,7 +69,8 @@ float box_pixels(const camera& cam, const bounds& b) {
     const glm::vec3 q = p - cam.origin;
     const float z = glm::dot(q, cam.w);
     if (!(z > 0)) return std::numeric_limits<float>::infinity();
-    const float px = glm::dot(q, cam.r) / (z * cam.step), py = glm::dot(q, cam.u) / (z * cam.step);
+    float px, py;
+    project(cam, q, z, px, py);
     x0 = std::min(x0, px), x1 = std::max(x1, px), y0 = std::min(y0, py), y1 = std::max(y1, py);
   }
   // Pixel centres lie within half the image of its centre; a pixel beyond the box's edge
