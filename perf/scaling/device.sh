@@ -1,0 +1,45 @@
+#!/bin/bash
+# Thread scaling on a lent many-core machine (issue 5), in two steps:
+#   perf/scaling/device.sh pack   here: copies build/epsray, its shared libraries (glibc
+#                                 too: the other machine's may differ) and two SPD scenes
+#                                 into .dev/ (add /.dev/ to .git/info/exclude; carry it)
+#   perf/scaling/device.sh run    there: the scaling sweep, N one-thread walks at once
+#                                 against one alone, thread time on 1 and 16 threads, and
+#                                 the art-room walk at all threads; results under $OUT
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+case "${1:-}" in
+pack)
+  rm -rf .dev && mkdir -p .dev/lib .dev/spd
+  cp build/epsray .dev/epsray.bin
+  for l in $(ldd build/epsray | awk '/=>/{print $3}') /lib64/ld-linux-x86-64.so.2; do cp -L "$l" .dev/lib/; done
+  cp ../shared/scenes/spd/balls-s3.nff ../shared/scenes/spd/teapot-s6.nff .dev/spd/
+  printf '%s\n' '#!/bin/sh' 'd=$(cd "$(dirname "$0")" && pwd)' \
+    'exec "$d/lib/ld-linux-x86-64.so.2" --library-path "$d/lib" "$d/epsray.bin" "$@"' > .dev/epsray
+  chmod +x .dev/epsray && .dev/epsray info ;;
+run)
+  export PYTHONUNBUFFERED=1
+  E=.dev/epsray n=$(nproc)
+  $E info | tee "$OUT/concurrent.log"
+  python3 -c "import sys; sys.path.insert(0,'perf'); from common import orbit_path; orbit_path('scenes/artroom.nff', 16, '/tmp/orbit.path')"
+  med() { python3 -c "
+import json,statistics as st,sys
+m=[st.median(f['ms'] for f in json.load(open(p))['frames'][1:]) for p in sys.argv[1:]]
+print('%d at once: median of per-process median frame ms %.1f (min %.1f max %.1f)' % (len(m), st.median(m), min(m), max(m)))" "$@"; }
+  for mode in base full; do for k in 1 $((n / 2)) $n 1; do
+    rm -f /tmp/c*.json
+    for i in $(seq "$k"); do $E walk scenes/artroom.nff --path /tmp/orbit.path --mode $mode --size 640x480 --threads 1 --quiet --stats /tmp/c$i.json & done; wait
+    echo -n "$mode, one-thread walks, "; med /tmp/c*.json
+  done; done | tee -a "$OUT/concurrent.log"
+  for mode in base full; do for t in 1 "$n"; do
+    $E walk scenes/artroom.nff --path /tmp/orbit.path --mode $mode --size 640x480 --threads "$t" --quiet --stats /tmp/$mode$t.json
+    python3 -c "
+import json,statistics as st
+fr=json.load(open('/tmp/$mode$t.json'))['frames'][1:]
+print('$mode $t threads: frame ms %.1f, thread time ms %.1f' % (st.median(f['ms'] for f in fr), st.median(sum(f['path_ms'].values()) for f in fr)))"
+  done; done | tee -a "$OUT/concurrent.log"
+  python3 perf/walk/bench.py --exe $E --threads "$n" --reps 3 --out "$OUT/walk$n.md" | tail -12
+  python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$n --frames 16 --reps 2 --size 640x480 \
+    --out "$OUT/scaling.md" scenes/artroom.nff .dev/spd/balls-s3.nff .dev/spd/teapot-s6.nff ;;
+*) echo "usage: perf/scaling/device.sh pack|run" >&2; exit 2 ;;
+esac
