@@ -5,8 +5,10 @@
 namespace epsray {
 
 int default_tile_rows(int height, int threads) {
-  // Aim at 8 tiles per thread or more; at least one row, at most 8.
-  int rows = height / std::max(1, 8 * threads);
+  // Aim at 32 tiles per thread or more, so a thread that drew the costly rows (glass, a
+  // silhouette band) is not the frame's tail; at least one row, at most 8. On 16 threads
+  // at 640x480, one-row tiles ran 6-10% faster than three-row ones in 4 of 6 walks.
+  int rows = height / std::max(1, 32 * threads);
   return std::clamp(rows, 1, 8);
 }
 
