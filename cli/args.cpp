@@ -54,6 +54,8 @@ std::string usage_text() {
          "       --min-cell-pixels P (no linetree cell is split into children covering fewer pixels),\n"
          "       --min-prim-pixels P (primitives whose box covers fewer pixels are traced; default 1024),\n"
          "       --split 4|16 (halve the axes a failure points at, or always all four),\n"
+         "       --reproject exact|osmesa (full, render and walk: which pixels last frame's cells own,\n"
+         "       by the exact per-pixel test (default) or drawn by OSMesa),\n"
          "       --defer-pixels P (cells under P pixels may trace the lights and secondary rays they\n"
          "       cannot prove per pixel; default 256), --failed-split-pixels P (cells refused for a\n"
          "       discontinuity or a miss are not split below P pixels; default 0, and 64 while the\n"
@@ -120,6 +122,10 @@ cli_options parse_args(const std::vector<std::string>& a) {
       const std::string& v = value();
       if (v != "4" && v != "16") bad("bad --split '" + v + "': expected 4 or 16");
       o.four_way = v == "4";
+    } else if (f == "--reproject" && !view) {
+      const std::string& v = value();
+      if (v != "exact" && v != "osmesa") bad("bad --reproject '" + v + "': expected exact or osmesa");
+      o.reproject_osmesa = v == "osmesa";
     } else if (f == "--quiet") o.quiet = true;
     else if (f == "--pin") o.pin = true;
     else if (f == "--memory-mb") o.memory_mb = to_number("--memory-mb", value(), 1, 1e6);

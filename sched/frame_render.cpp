@@ -137,17 +137,37 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     const auto r0 = std::chrono::steady_clock::now();
     const std::vector<cell_ref>& cells = p.reproj->cells;
     trusted.resize(cells.size());
-    std::vector<pixel_rect> rects(cells.size());
+    std::vector<pixel_rect> rects(p.reproj->raster ? 0 : cells.size());
     owner.resize(size_t(cam.width) * size_t(cam.height));
+    face_raster* raster = p.reproj->raster.get();
+    // OSMesa: the cells' triangles made in chunks, in parallel, then drawn in this thread
+    // (the context's), last chunk first so the first listed cell is drawn last.
+    constexpr size_t chunk = 256;
+    std::vector<std::vector<float>> xy(raster ? (cells.size() + chunk - 1) / chunk : 0);
+    std::vector<std::vector<std::uint32_t>> rgba(xy.size());
     pool.run([&] {
       tbb::parallel_for(size_t(0), cells.size(), [&](size_t i) {
         trusted[i] = trust_from(w, cells[i], cam.origin);
-        if (trusted[i].ok) rects[i] = raster_rect(cam, cell_screen_box(cam, cells[i].lt->fp, *cells[i].node));
+        if (trusted[i].ok && !raster) rects[i] = raster_rect(cam, cell_screen_box(cam, cells[i].lt->fp, *cells[i].node));
       });
-      tbb::parallel_for(size_t(0), tiles.size(), [&](size_t i) {
-        splat_rows(cam, cells, trusted, rects, tiles[i].y0, tiles[i].y1, owner.data());
-      });
+      if (raster)
+        tbb::parallel_for(size_t(0), xy.size(), [&](size_t c) {
+          cell_triangles(cam, cells, trusted, c * chunk, std::min(cells.size(), (c + 1) * chunk), xy[c], rgba[c]);
+        });
+      else
+        tbb::parallel_for(size_t(0), tiles.size(), [&](size_t i) {
+          splat_rows(cam, cells, trusted, rects, tiles[i].y0, tiles[i].y1, owner.data());
+        });
     });
+    if (raster) {
+      std::vector<float> all_xy;
+      std::vector<std::uint32_t> all_rgba;
+      for (size_t c = xy.size(); c-- > 0;) {
+        all_xy.insert(all_xy.end(), xy[c].begin(), xy[c].end());
+        all_rgba.insert(all_rgba.end(), rgba[c].begin(), rgba[c].end());
+      }
+      raster->draw(cam, all_xy, all_rgba, owner.data());
+    }
     rp = reprojection_frame{&cells, owner.data(), &trusted};
     out.reprojected_cells = cells.size();
     out.trusted_cells =

@@ -2,6 +2,7 @@
 // tile order, so images and counts are the same for any thread count and schedule.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include "interp/interp_shade.h"
 #include "baselines/pixel_reuse.h"
 #include "interp/linetree.h"
+#include "reproject/face_raster.h"
 #include "scene/camera.h"
 #include "shade/ray_tree_store.h"
 #include "shade/whitted.h"
@@ -45,6 +47,9 @@ struct path_times {
 struct reprojection_state {
   std::vector<cell_ref> cells;
   reuse_state pixels;
+  // `--reproject osmesa`: the OSMesa context that draws the cells' regions (opened by the
+  // caller, which reports a failure to load OSMesa; null: the exact per-pixel method).
+  std::unique_ptr<face_raster> raster;
 };
 
 struct frame_params {
