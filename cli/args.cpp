@@ -55,7 +55,8 @@ std::string usage_text() {
          "       --min-prim-pixels P (primitives whose box covers fewer pixels are traced; default 1024),\n"
          "       --split 4|16 (halve the axes a failure points at, or always all four),\n"
          "       --reproject exact|osmesa (full, render and walk: which pixels last frame's cells own,\n"
-         "       by the exact per-pixel test (default) or drawn by OSMesa),\n"
+         "       by the exact per-pixel test (default) or drawn by OSMesa), --pipeline (walk, full:\n"
+         "       each next frame's reprojection prepared on a thread of its own meanwhile),\n"
          "       --defer-pixels P (cells under P pixels may trace the lights and secondary rays they\n"
          "       cannot prove per pixel; default 256), --failed-split-pixels P (cells refused for a\n"
          "       discontinuity or a miss are not split below P pixels; default 0, and 64 while the\n"
@@ -126,7 +127,8 @@ cli_options parse_args(const std::vector<std::string>& a) {
       const std::string& v = value();
       if (v != "exact" && v != "osmesa") bad("bad --reproject '" + v + "': expected exact or osmesa");
       o.reproject_osmesa = v == "osmesa";
-    } else if (f == "--quiet") o.quiet = true;
+    } else if (f == "--pipeline" && walk) o.pipeline = true;
+    else if (f == "--quiet") o.quiet = true;
     else if (f == "--pin") o.pin = true;
     else if (f == "--memory-mb") o.memory_mb = to_number("--memory-mb", value(), 1, 1e6);
     else if (f == "--upsample" && !view) o.upsample = int(to_int("--upsample", value(), 1, 64));

@@ -15,6 +15,7 @@ struct frame_record {
   std::uint64_t memory_bytes = 0, linetree_bytes = 0;
   path_times path_ms;  // thread time per path
   double reproject_ms = 0;
+  double ahead_ms = 0, ahead_wait_ms = 0;  // --pipeline (frame_result)
   bool verified = false;
   double max_rel_err = 0, p999_rel_err = 0, mean_rel_err = 0;
   std::uint64_t violations = 0;

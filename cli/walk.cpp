@@ -68,10 +68,14 @@ int run_walk(const cli_options& o) {
   for (int k = 0; k < count; ++k) {
     const camera cam = make_camera(path.frames[size_t(k)], width, height);
     fp.camera_moving = k > 0 && !same_camera(cam, last);
+    // --pipeline: the next frame's reprojection is prepared while this one is shaded.
+    const camera next = k + 1 < count ? make_camera(path.frames[size_t(k + 1)], width, height) : camera{};
+    fp.next_camera = o.pipeline && o.mode == render_mode::full && k + 1 < count ? &next : nullptr;
     last = cam;
     frame_result fr = render_frame(pool, w, cam, fp);
     check_finite(fr.img);
-    frame_record r{k, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms};
+    frame_record r{k, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms,
+                   fr.ahead_ms, fr.ahead_wait_ms};
     if (o.verify) {
       verify_result vr = verify_frame(pool, w, cam, fr.img, o.eps);
       r.verified = true, r.max_rel_err = vr.max_rel_err, r.p999_rel_err = vr.p999_rel_err, r.mean_rel_err = vr.mean_rel_err;

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <stdexcept>
+#include <unordered_set>
 #include <vector>
 
 #include "baselines/lightfield.h"
@@ -130,46 +131,36 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   }
   // Full: last frame's cells from the new eye (each checked once, in parallel), then each
   // tile's pixels take the first containing trusted cell.
-  std::vector<std::int32_t, no_init_allocator<std::int32_t>> owner;  // splat_rows fills each tile's rows
+  std::vector<std::int32_t, no_init_allocator<std::int32_t>> owner;  // reproject_cells fills it
   std::vector<cell_trust> trusted;
   reprojection_frame rp;
   if (p.mode == render_mode::full) {
     const auto r0 = std::chrono::steady_clock::now();
-    const std::vector<cell_ref>& cells = p.reproj->cells;
-    trusted.resize(cells.size());
-    std::vector<pixel_rect> rects(p.reproj->raster ? 0 : cells.size());
+    reprojection_state& rs = *p.reproj;
     owner.resize(size_t(cam.width) * size_t(cam.height));
-    face_raster* raster = p.reproj->raster.get();
-    // OSMesa: the cells' triangles made in chunks, in parallel, then drawn in this thread
-    // (the context's), last chunk first so the first listed cell is drawn last.
-    constexpr size_t chunk = 256;
-    std::vector<std::vector<float>> xy(raster ? (cells.size() + chunk - 1) / chunk : 0);
-    std::vector<std::vector<std::uint32_t>> rgba(xy.size());
-    pool.run([&] {
-      tbb::parallel_for(size_t(0), cells.size(), [&](size_t i) {
-        trusted[i] = trust_from(w, cells[i], cam.origin);
-        if (trusted[i].ok && !raster) rects[i] = raster_rect(cam, cell_screen_box(cam, cells[i].lt->fp, *cells[i].node));
-      });
-      if (raster)
-        tbb::parallel_for(size_t(0), xy.size(), [&](size_t c) {
-          cell_triangles(cam, cells, trusted, c * chunk, std::min(cells.size(), (c + 1) * chunk), xy[c], rgba[c]);
-        });
-      else
-        tbb::parallel_for(size_t(0), tiles.size(), [&](size_t i) {
-          splat_rows(cam, cells, trusted, rects, tiles[i].y0, tiles[i].y1, owner.data());
-        });
-    });
-    if (raster) {
-      std::vector<float> all_xy;
-      std::vector<std::uint32_t> all_rgba;
-      for (size_t c = xy.size(); c-- > 0;) {
-        all_xy.insert(all_xy.end(), xy[c].begin(), xy[c].end());
-        all_rgba.insert(all_rgba.end(), rgba[c].begin(), rgba[c].end());
-      }
-      raster->draw(cam, all_xy, all_rgba, owner.data());
+    std::vector<cell_ref> last = std::move(rs.cells);  // the cells the last frame used
+    reprojection_ahead& ahead = rs.ahead;
+    if (ahead.ready && same_camera(ahead.cam, cam) && ahead.owner.size() == owner.size()) {
+      // Prepared while the last frame was shaded, from the frame before it: now only the
+      // cells the last frame used besides those, into the pixels still unowned.
+      std::vector<cell_ref> cells = std::move(ahead.cells);
+      std::unordered_set<const lt_node*> known;
+      for (const cell_ref& c : cells) known.insert(c.node);
+      const size_t first = cells.size();
+      for (const cell_ref& c : last)
+        if (!known.count(c.node)) cells.push_back(c);
+      trusted = std::move(ahead.trusted);
+      std::copy(ahead.owner.begin(), ahead.owner.end(), owner.begin());
+      reproject_cells(&pool, w, cam, tiles, cells, first, nullptr, trusted, owner.data());
+      rs.cells = std::move(cells);
+    } else {
+      reproject_cells(&pool, w, cam, tiles, last, 0, rs.raster.get(), trusted, owner.data());
+      rs.cells = last;
     }
-    rp = reprojection_frame{&cells, owner.data(), &trusted};
-    out.reprojected_cells = cells.size();
+    ahead.ready = false;
+    if (p.next_camera) start_ahead(ahead, w, *p.next_camera, last, rs.raster.get());
+    rp = reprojection_frame{&rs.cells, owner.data(), &trusted};
+    out.reprojected_cells = rs.cells.size();
     out.trusted_cells =
         std::uint64_t(std::count_if(trusted.begin(), trusted.end(), [](const cell_trust& t) { return t.ok; }));
     out.reproject_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
@@ -261,6 +252,12 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     out.path_ms.deferred += double(t.ticks_deferred) / tick_ms;
   }
   if (p.mode == render_mode::full) {
+    reprojection_ahead& ahead = p.reproj->ahead;
+    if (ahead.job.valid()) {
+      out.ahead_wait_ms = finish_ahead(ahead);
+      out.ahead_ms = ahead.ms;
+      for (const cell_ref& c : ahead.cells) mark_used(*c.node, p.trees->frame());  // the next frame's: kept
+    }
     std::vector<cell_ref> next;
     for (const tile_totals& t : totals) next.insert(next.end(), t.cells.begin(), t.cells.end());
     pool.run([&] { settle_cells(next); });

@@ -11,6 +11,7 @@
 #include "baselines/pixel_reuse.h"
 #include "interp/linetree.h"
 #include "reproject/face_raster.h"
+#include "reproject_frame.h"
 #include "scene/camera.h"
 #include "shade/ray_tree_store.h"
 #include "shade/whitted.h"
@@ -50,6 +51,9 @@ struct reprojection_state {
   // `--reproject osmesa`: the OSMesa context that draws the cells' regions (opened by the
   // caller, which reports a failure to load OSMesa; null: the exact per-pixel method).
   std::unique_ptr<face_raster> raster;
+  // `--pipeline`: the next frame's reprojection, prepared while this one is shaded. Last,
+  // so that it is destroyed first: its thread may be using the raster.
+  reprojection_ahead ahead;
 };
 
 struct frame_params {
@@ -59,6 +63,9 @@ struct frame_params {
                                    // (its memory budget is enforced after each frame)
   reprojection_state* reproj = nullptr;  // kept between frames by the caller; needed by full
   int tile_rows = 0;               // 0: default_tile_rows
+  // Full, pipelined: the next frame's eye, whose reprojection is prepared on a thread of
+  // its own from the last frame's cells while this frame is shaded (null: none).
+  const camera* next_camera = nullptr;
   bool camera_moving = false;      // the camera differs from the last frame's (interp_params::
                                    // moving_failed_split_pixels applies)
   bool keep_ray_trees = false;     // base: fill frame_result::trees, one per pixel, raster order
@@ -76,6 +83,9 @@ struct frame_result {
   ray_counts rays;
   double ms = 0;
   double reproject_ms = 0;  // full: wall time of trusting and splatting last frame's cells
+  // Full, pipelined: wall time of preparing the next frame on its own thread, and how long
+  // this frame then waited for it (the part that did not overlap the shading).
+  double ahead_ms = 0, ahead_wait_ms = 0;
   std::uint64_t reprojected_cells = 0, trusted_cells = 0;
   path_times path_ms;
   std::uint64_t memory_bytes = 0;  // image, ray trees, linetrees

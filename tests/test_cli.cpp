@@ -379,6 +379,21 @@ TEST_F(Cli, WalkFramesMatchRendersOfThePathAndIgnoreThreads) {
   }
   for (const char* f : {"frame_0000.pfm", "frame_0001.pfm"})
     EXPECT_EQ(test::read_file(work.file(std::string("t1/") + f)), test::read_file(work.file(std::string("t2/") + f)));
+  // --pipeline (and --reproject osmesa, where OSMesa loads): the next frame prepared on a
+  // thread of its own, reported per frame; the same images on 1 and 2 threads.
+  for (const char* t : {"1", "2"}) {
+    r = run({"walk", "good.nff", "--path", "two.path", "--mode", "full", "--size", "32x24", "--threads", t,
+             "--pipeline", "--out-dir", std::string("p") + t, "--pfm", "--quiet", "--stats", std::string("p") + t + ".json"});
+    ASSERT_EQ(r.code, 0) << r;
+  }
+  for (const char* f : {"frame_0000.pfm", "frame_0001.pfm"})
+    EXPECT_EQ(test::read_file(work.file(std::string("p1/") + f)), test::read_file(work.file(std::string("p2/") + f)));
+  const nlohmann::json j = nlohmann::json::parse(test::read_file(work.file("p1.json")));
+  EXPECT_GT(j.at("frames")[0].at("ahead_ms").get<double>(), 0);
+  EXPECT_FALSE(j.at("frames")[1].contains("ahead_ms")) << "the last frame has no next one";
+  r = run({"walk", "good.nff", "--path", "two.path", "--mode", "full", "--size", "32x24", "--reproject", "osmesa",
+           "--pipeline", "--quiet"});
+  EXPECT_TRUE(r.code == 0 || (r.code == 1 && r.err.find("OSMesa") != std::string::npos)) << r;
 }
 
 // --- modes and commands still being built: never a crash, and a failure says why -----------

@@ -135,9 +135,9 @@ void row_run(const camera& cam, const cell_ref& c, const row_tests& t, int y, in
 }  // namespace
 
 void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std::vector<cell_trust>& trusted,
-                const std::vector<pixel_rect>& rects, int y0, int y1, std::int32_t* owner) {
-  std::fill(owner + size_t(y0) * size_t(cam.width), owner + size_t(y1) * size_t(cam.width), -1);
-  for (size_t i = 0; i < cells.size(); ++i) {
+                const std::vector<pixel_rect>& rects, int y0, int y1, std::int32_t* owner, std::size_t first) {
+  if (first == 0) std::fill(owner + size_t(y0) * size_t(cam.width), owner + size_t(y1) * size_t(cam.width), -1);
+  for (size_t i = first; i < cells.size(); ++i) {
     if (!trusted[i].ok) continue;
     const pixel_rect& r = rects[i];
     const int ya = std::max(r.y0, y0), yb = std::min(r.y1, y1);

@@ -39,9 +39,10 @@ cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye);
 bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float x4[4]);
 
 // Owner of each pixel of rows [y0, y1): the index of the first trusted cell (in list order)
-// holding the pixel's line, or -1. `owner` is the whole image's buffer, row-major.
+// holding the pixel's line, or -1. `owner` is the whole image's buffer, row-major. With
+// first > 0 only cells[first, end) are splatted, into the pixels still unowned (-1).
 void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std::vector<cell_trust>& trusted,
-                const std::vector<pixel_rect>& rects, int y0, int y1, std::int32_t* owner);
+                const std::vector<pixel_rect>& rects, int y0, int y1, std::int32_t* owner, std::size_t first = 0);
 
 // Span fill of pixel (x, y) from its owner: false when a candidate occluder may hide the
 // pixel's point or the bound does not meet epsilon for its line (the pixel then takes the
