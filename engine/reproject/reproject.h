@@ -8,7 +8,8 @@
 //
 // Where the paper rasterizes cell faces with conflict detection, ownership here is decided
 // exactly, per pixel: the pixel's line must lie inside the cell's four ranges. Cells keep a
-// deterministic order, and the first containing trusted cell owns the pixel.
+// deterministic order, and the first containing trusted cell owns the pixel. (`--reproject
+// osmesa` draws the same rule instead: face_raster.h.)
 #pragma once
 #include <cstdint>
 #include <vector>
