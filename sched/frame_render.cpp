@@ -140,7 +140,8 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     owner.resize(size_t(cam.width) * size_t(cam.height));
     std::vector<cell_ref> last = std::move(rs.cells);  // the cells the last frame used
     reprojection_ahead& ahead = rs.ahead;
-    if (ahead.ready && same_camera(ahead.cam, cam) && ahead.owner.size() == owner.size()) {
+    const bool prepared = ahead.ready && same_camera(ahead.cam, cam) && ahead.owner.size() == owner.size();
+    if (prepared) {
       // Prepared while the last frame was shaded, from the frame before it: now only the
       // cells the last frame used besides those, into the pixels still unowned.
       std::vector<cell_ref> cells = std::move(ahead.cells);
@@ -155,10 +156,10 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       rs.cells = std::move(cells);
     } else {
       reproject_cells(&pool, w, cam, tiles, last, 0, rs.raster.get(), trusted, owner.data());
-      rs.cells = last;
     }
     ahead.ready = false;
-    if (p.next_camera) start_ahead(ahead, w, *p.next_camera, last, rs.raster.get());
+    if (p.next_camera) start_ahead(ahead, w, *p.next_camera, last, rs.raster.get());  // copies the list
+    if (!prepared) rs.cells = std::move(last);
     rp = reprojection_frame{&rs.cells, owner.data(), &trusted};
     out.reprojected_cells = rs.cells.size();
     out.trusted_cells =
