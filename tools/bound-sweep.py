@@ -20,6 +20,8 @@ deleted). Exit status 1 if any run had pixels over eps or the renderer exited no
     python3 tools/bound-sweep.py --scenes scenes/artroom.nff scenes/tests/*.nff \\
         --walks 4 --frames 8 --size 240x180 --eps 0.01 0.05 0.2 --modes interp full \\
         --seed 1 --exe build/epsray --keep-dir /tmp/sweep/keep
+
+`--flags "..."` adds epsray flags to every walk (e.g. `--reproject osmesa --pipeline`).
 """
 import argparse, json, math, os, random, subprocess, sys, time
 
@@ -142,6 +144,7 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--timeout", type=float, default=900)
     ap.add_argument("--keep-dir", default="/tmp/bound-sweep")
+    ap.add_argument("--flags", default="", help="more epsray flags for every walk, e.g. '--reproject osmesa --pipeline'")
     a = ap.parse_args()
     os.makedirs(a.keep_dir, exist_ok=True)
     rng, t0 = random.Random(a.seed), time.time()
@@ -159,7 +162,7 @@ def main():
                     st = os.path.join(a.keep_dir, "stats.json")
                     if os.path.exists(st): os.remove(st)
                     cmd = [a.exe, "walk", scene, "--path", pf, "--mode", mode, "--eps", eps, "--size", a.size,
-                           "--verify", "--threads", str(a.threads)]
+                           "--verify", "--threads", str(a.threads)] + a.flags.split()
                     t = time.time()
                     try:
                         r = subprocess.run(cmd + ["--stats", st], capture_output=True, text=True, timeout=a.timeout)
