@@ -217,10 +217,11 @@ void cell_triangles(const camera& cam, const std::vector<cell_ref>& cells, const
 
 std::size_t face_raster::owners(const camera& cam, const std::vector<cell_ref>& cells,
                                 const std::vector<cell_trust>& trusted, std::int32_t* owner) {
-  xy_.clear(), rgba_.clear();
-  cell_triangles(cam, cells, trusted, 0, cells.size(), xy_, rgba_);
-  draw(cam, xy_, rgba_, owner);
-  return rgba_.size() / 3;
+  std::vector<float> xy;
+  std::vector<std::uint32_t> rgba;
+  cell_triangles(cam, cells, trusted, 0, cells.size(), xy, rgba);
+  draw(cam, xy, rgba, owner);
+  return rgba.size() / 3;
 }
 
 void face_raster::draw(const camera& cam, const std::vector<float>& xy, const std::vector<std::uint32_t>& rgba,

@@ -32,7 +32,7 @@ class face_raster {
   face_raster& operator=(const face_raster&) = delete;
 
   // owner[y * width + x]: the first trusted cell (in list order) whose region covers pixel
-  // (x, y), or -1. Returns the number of triangles drawn.
+  // (x, y), or -1; all in the calling thread. Returns the number of triangles drawn.
   std::size_t owners(const camera& cam, const std::vector<cell_ref>& cells, const std::vector<cell_trust>& trusted,
                      std::int32_t* owner);
 
@@ -49,8 +49,6 @@ class face_raster {
   void* ctx_ = nullptr;
   std::unique_ptr<gl> gl_;
   std::vector<std::uint32_t> buffer_;  // RGBA8, bottom row first (OSMesa's default)
-  std::vector<float> xy_;
-  std::vector<std::uint32_t> rgba_;
 };
 
 // Appends the triangles of the trusted cells among cells[first, last), last listed first
