@@ -186,10 +186,7 @@ std::unique_ptr<face_raster> face_raster::open(std::string& why) {
 }
 
 face_raster::~face_raster() {
-  if (ctx_ && gl_) {
-    gl_->MakeCurrent(nullptr, nullptr, 0, 0, 0);  // releases the context's framebuffer first
-    gl_->DestroyContext(ctx_);
-  }
+  if (ctx_ && gl_) gl_->DestroyContext(ctx_);  // never current here: draw releases it
   // The library stays loaded: Mesa keeps threads and atexit handlers that outlive a context.
 }
 
@@ -246,6 +243,8 @@ void face_raster::draw(const camera& cam, const std::vector<float>& xy, const st
     g.DrawArrays(gl_triangles, 0, int(rgba.size()));
   }
   g.Finish();
+  // Released, so that the next frame may draw from another thread (--pipeline's).
+  g.MakeCurrent(nullptr, nullptr, 0, 0, 0);
   for (int y = 0; y < H; ++y) {
     const std::uint32_t* row = buffer_.data() + std::size_t(H - 1 - y) * std::size_t(W);  // bottom row first
     std::int32_t* out = owner + std::size_t(y) * std::size_t(W);
