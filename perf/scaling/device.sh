@@ -4,8 +4,9 @@
 #                                 too: the other machine's may differ) and two SPD scenes
 #                                 into .dev/ (add /.dev/ to .git/info/exclude; carry it)
 #   perf/scaling/device.sh run    there: the scaling sweep, N one-thread walks at once
-#                                 against one alone, thread time on 1 and 16 threads, and
-#                                 the art-room walk at all threads; results under $OUT
+#                                 against one alone, thread time on 1 and 16 threads, the
+#                                 art-room walk at all threads, and the reprojection
+#                                 methods at N and N-1 threads; results under $OUT
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 case "${1:-}" in
@@ -39,6 +40,10 @@ fr=json.load(open('/tmp/$mode$t.json'))['frames'][1:]
 print('$mode $t threads: frame ms %.1f, thread time ms %.1f' % (st.median(f['ms'] for f in fr), st.median(sum(f['path_ms'].values()) for f in fr)))"
   done; done | tee -a "$OUT/concurrent.log"
   python3 perf/walk/bench.py --exe $E --threads "$n" --reps 3 --out "$OUT/walk$n.md" | tail -12
+  # Pipelining pays with a core to spare: all cores shading against one left to the pipeline.
+  for t in "$n" $((n - 1)); do
+    python3 perf/reproject/bench.py --exe $E --threads "$t" --reps 3 --out "$OUT/reproject$t.md" | tail -7
+  done
   python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$n --frames 16 --reps 2 --size 640x480 \
     --out "$OUT/scaling.md" scenes/artroom.nff .dev/spd/balls-s3.nff .dev/spd/teapot-s6.nff ;;
 *) echo "usage: perf/scaling/device.sh pack|run" >&2; exit 2 ;;
