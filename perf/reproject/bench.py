@@ -8,7 +8,8 @@ path, the time the pipelined preparation took on its own thread and how long the
 then waited for it (what did not overlap), and the fast pixels over the walk.
 
     perf/reproject/bench.py [--scene scenes/artroom.nff] [--path scenes/paths/artroom-walk.path]
-                            [--size 800x600] [--threads 2] [--reps 3] [--exe build/epsray]
+                            [--size 800x600] [--threads 2] [--reps 3] [--methods exact,osmesa]
+                            [--exe build/epsray]
                             [--out perf/results/reproject.md]
 """
 import argparse
@@ -32,12 +33,15 @@ def main():
     ap.add_argument("--size", default="800x600")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--methods", default="exact,osmesa",
+                    help="which reprojection methods, each with and without --pipeline (exact where OSMesa is absent)")
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "epsray"))
     ap.add_argument("--out", default=os.path.join(ROOT, "perf", "results", "reproject.md"))
     a = ap.parse_args()
-    runs = {name: [] for name, _ in VARIANTS}
+    variants = [(name, flags) for name, flags in VARIANTS if name.split(",")[0] in a.methods.split(",")]
+    runs = {name: [] for name, _ in variants}
     for _ in range(a.reps):
-        for name, flags in VARIANTS:  # interleaved: each repetition sees the machine alike
+        for name, flags in variants:  # interleaved: each repetition sees the machine alike
             runs[name].append(run_walk(a.exe, a.scene, a.path, ["--mode", "full", "--size", a.size, "--threads",
                                                                 a.threads, "--eps", 0.05] + flags)["frames"][1:])
     med = statistics.median
@@ -46,7 +50,7 @@ def main():
              "| variant | frame ms (per rep) | reprojection on the critical path ms | prepared ahead ms | waited ms | "
              "fast pixels |", "|---|---:|---:|---:|---:|---:|"]
     base = None
-    for name, _ in VARIANTS:
+    for name, _ in variants:
         reps = runs[name]
         ms = [med(f["ms"] for f in r) for r in reps]
         base = base or med(ms)
