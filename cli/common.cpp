@@ -70,13 +70,14 @@ void check_finite(const image& img) {
       throw std::runtime_error("internal error: a pixel is not finite; nothing written");
 }
 
+void open_reprojection(const cli_options& o, reprojection_state& reproj) {
+  if (!o.reproject_osmesa || o.mode != render_mode::full || reproj.raster) return;
+  std::string why;
+  reproj.raster = face_raster::open(why);
+  if (!reproj.raster) throw std::runtime_error(why);
+}
+
 frame_params make_frame_params(const cli_options& o, linetree_set* trees, reprojection_state* reproj) {
-  // Opened here, before the first frame, so that a machine without OSMesa hears it at once.
-  if (o.reproject_osmesa && o.mode == render_mode::full && reproj && !reproj->raster) {
-    std::string why;
-    reproj->raster = face_raster::open(why);
-    if (!reproj->raster) throw std::runtime_error(why);
-  }
   frame_params fp;
   fp.mode = o.mode;
   fp.interp.eps = o.eps;

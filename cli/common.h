@@ -23,6 +23,10 @@ void reject_unbuilt(const cli_options& o);
 // A NaN or infinite pixel is an internal error: nothing is written.
 void check_finite(const image& img);
 frame_params make_frame_params(const cli_options& o, linetree_set* trees, reprojection_state* reproj);
+
+// `--reproject osmesa` in full mode: loads OSMesa into reproj (throws, exit 1, where it
+// cannot). Called with the input checks, before any output is made and before the clock.
+void open_reprojection(const cli_options& o, reprojection_state& reproj);
 // The linetrees of interp and full modes, with --memory-mb's budget; none for base (their
 // sample caches alone are tens of MB).
 std::unique_ptr<linetree_set> make_linetrees(const cli_options& o, const world& w);

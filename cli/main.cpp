@@ -44,6 +44,8 @@ int run_render(const cli_options& o) {
   check_writable(o.stats, "--stats");
   check_writable(o.reasons, "--reasons");
   reject_unbuilt(o);
+  reprojection_state reproj;  // full: the cells carried to the next frame
+  open_reprojection(o, reproj);
 
   int width = o.size ? o.size->first : sc.view.width;
   int height = o.size ? o.size->second : sc.view.height;
@@ -55,7 +57,6 @@ int run_render(const cli_options& o) {
   auto t0 = std::chrono::steady_clock::now();
   world w = make_world(std::move(sc));
   std::unique_ptr<linetree_set> trees = make_linetrees(o, w);
-  reprojection_state reproj;  // full: the cells carried to the next frame
   const frame_params fp = make_frame_params(o, trees.get(), &reproj);
   const camera cam = make_camera(view, width, height);
   frame_result fr = render_frame(pool, w, cam, fp);

@@ -44,6 +44,8 @@ int run_walk(const cli_options& o) {
   check_out_dir(o.out_dir);
   check_writable(o.stats, "--stats");
   reject_unbuilt(o);
+  reprojection_state reproj;  // full: the cells carried to the next frame
+  open_reprojection(o, reproj);
 
   const int width = o.size ? o.size->first : sc.view.width;
   const int height = o.size ? o.size->second : sc.view.height;
@@ -56,7 +58,6 @@ int run_walk(const cli_options& o) {
   auto t0 = std::chrono::steady_clock::now();
   world w = make_world(std::move(sc));
   std::unique_ptr<linetree_set> trees = make_linetrees(o, w);
-  reprojection_state reproj;  // full: the cells carried to the next frame
   frame_params fp = make_frame_params(o, trees.get(), &reproj);
 
   run_record rec;
