@@ -31,8 +31,8 @@ struct cli_options {
   std::optional<float> failed_split_pixels;  // unset: 0 at rest, 64 while the camera moves
   float defer_pixels = 256;
   bool four_way = true;
-  bool reproject_osmesa = false;
-  bool pipeline = false;  // walk, full: prepare each next frame's reprojection on a thread of its own  // full: draw last frame's cells with OSMesa, not the exact per-pixel test
+  bool reproject_osmesa = false;  // full: draw last frame's cells with OSMesa, not the exact per-pixel test
+  bool pipeline = false;  // walk, full: prepare each next frame's reprojection on a thread of its own
   bool pin = false;  // bind worker threads to cores (hwloc)
   double memory_mb = 0;  // linetree memory budget; 0: none
   int upsample = 2, reuse_age = 4, lf_depth = 4;  // the baselines' knobs (frame_params)
