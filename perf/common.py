@@ -7,6 +7,19 @@ import subprocess
 import tempfile
 
 
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def add_walk_arguments(ap, out):
+    """The options of the benchmarks that walk the art room's path (walk/, reproject/):
+    --scene, --path, --size, --exe, and --out, perf/results/OUT by default."""
+    ap.add_argument("--scene", default=os.path.join(ROOT, "scenes", "artroom.nff"))
+    ap.add_argument("--path", default=os.path.join(ROOT, "scenes", "paths", "artroom-walk.path"))
+    ap.add_argument("--size", default="800x600")
+    ap.add_argument("--exe", default=os.path.join(ROOT, "build", "epsray"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "perf", "results", out))
+
+
 def run_walk(exe, scene, path, flags):
     """`epsray walk SCENE --path PATH --quiet FLAGS...`; returns its --stats JSON."""
     with tempfile.TemporaryDirectory() as d:

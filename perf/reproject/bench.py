@@ -20,7 +20,7 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "perf"))
-from common import run_walk  # noqa: E402
+from common import add_walk_arguments, run_walk  # noqa: E402
 
 VARIANTS = [("exact", []), ("exact, pipelined", ["--pipeline"]), ("osmesa", ["--reproject", "osmesa"]),
             ("osmesa, pipelined", ["--reproject", "osmesa", "--pipeline"])]
@@ -28,15 +28,11 @@ VARIANTS = [("exact", []), ("exact, pipelined", ["--pipeline"]), ("osmesa", ["--
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--scene", default=os.path.join(ROOT, "scenes", "artroom.nff"))
-    ap.add_argument("--path", default=os.path.join(ROOT, "scenes", "paths", "artroom-walk.path"))
-    ap.add_argument("--size", default="800x600")
+    add_walk_arguments(ap, "reproject.md")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--methods", default="exact,osmesa",
                     help="which reprojection methods, each with and without --pipeline (exact where OSMesa is absent)")
-    ap.add_argument("--exe", default=os.path.join(ROOT, "build", "epsray"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "perf", "results", "reproject.md"))
     a = ap.parse_args()
     variants = [(name, flags) for name, flags in VARIANTS if name.split(",")[0] in a.methods.split(",")]
     runs = {name: [] for name, _ in variants}

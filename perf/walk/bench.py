@@ -22,7 +22,7 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "perf"))
-from common import run_walk  # noqa: E402
+from common import add_walk_arguments, run_walk  # noqa: E402
 
 
 def walk(exe, scene, path, mode, size, threads, eps, verify=False, budget=0):
@@ -33,14 +33,10 @@ def walk(exe, scene, path, mode, size, threads, eps, verify=False, budget=0):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--scene", default=os.path.join(ROOT, "scenes", "artroom.nff"))
-    ap.add_argument("--path", default=os.path.join(ROOT, "scenes", "paths", "artroom-walk.path"))
-    ap.add_argument("--size", default="800x600")
+    add_walk_arguments(ap, "walk.md")
     ap.add_argument("--eps", type=float, default=0.05)
     ap.add_argument("--reps", type=int, default=1)
     ap.add_argument("--threads", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("--exe", default=os.path.join(ROOT, "build", "epsray"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "perf", "results", "walk.md"))
     ap.add_argument("--memory-mb", type=float, default=24,
                     help="also run full mode under this linetree budget (issue 4: under 25 MB); 0: not")
     a = ap.parse_args()
