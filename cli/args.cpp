@@ -54,6 +54,8 @@ std::string usage_text() {
          "       --min-cell-pixels P (no linetree cell is split into children covering fewer pixels),\n"
          "       --min-prim-pixels P (primitives whose box covers fewer pixels are traced; default 1024),\n"
          "       --split 4|16 (halve the axes a failure points at, or always all four),\n"
+         "       --span N (full: a plain cell's runs of pixels are filled in screen space between end\n"
+         "       pixels at most N apart, the added error bounded; default 32, 0: every pixel evaluated),\n"
          "       --reproject exact|osmesa (full, render and walk: which pixels last frame's cells own,\n"
          "       by the exact per-pixel test (default) or drawn by OSMesa), --pipeline (walk, full:\n"
          "       each next frame's reprojection prepared on a thread of its own meanwhile),\n"
@@ -119,6 +121,7 @@ cli_options parse_args(const std::vector<std::string>& a) {
       o.failed_split_pixels = float(to_number("--failed-split-pixels", value(), 0, 1e9));
     else if (f == "--defer-pixels")
       o.defer_pixels = float(to_number("--defer-pixels", value(), 0, 1e9));
+    else if (f == "--span") o.span_segment = int(to_int("--span", value(), 0, 65536));
     else if (f == "--split") {
       const std::string& v = value();
       if (v != "4" && v != "16") bad("bad --split '" + v + "': expected 4 or 16");

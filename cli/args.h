@@ -31,6 +31,7 @@ struct cli_options {
   std::optional<float> failed_split_pixels;  // unset: 0 at rest, 64 while the camera moves
   float defer_pixels = 256;
   bool four_way = true;
+  int span_segment = 32;  // full: screen-space span segments of at most this many pixels; 0: none
   bool reproject_osmesa = false;  // full: draw last frame's cells with OSMesa, not the exact per-pixel test
   bool pipeline = false;  // walk, full: prepare each next frame's reprojection on a thread of its own
   bool pin = false;  // bind worker threads to cores (hwloc)

@@ -38,6 +38,8 @@ void write_stats_json(const run_record& r, const std::string& path) {
                            {"path_ms", {{"fast", f.path_ms.fast}, {"interp", f.path_ms.interp}, {"base", f.path_ms.base}}},
                            {"reproject_ms", f.reproject_ms},
                            {"deferred_pixels", f.pixels.deferred},
+                           {"span_pixels", f.pixels.span},
+                           {"span_ms", f.path_ms.span},
                            {"deferred_ms", f.path_ms.deferred},
                            {"memory_bytes", f.memory_bytes},
                            {"linetree_bytes", f.linetree_bytes}};

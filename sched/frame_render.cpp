@@ -12,6 +12,7 @@
 #include "baselines/lightfield.h"
 #include "baselines/upsample.h"
 #include "reproject/reproject.h"
+#include "reproject/span_fill.h"
 #include "shade/shade_rows.h"
 #include "cycle_clock.h"
 #include "tiles.h"
@@ -47,6 +48,7 @@ struct tile_totals {
   pixel_counts pixels;
   std::uint64_t ticks_fast = 0, ticks_interp = 0, ticks_base = 0;
   std::uint64_t ticks_deferred = 0;  // within fast and interp
+  std::uint64_t ticks_span = 0;      // within fast
   std::vector<cell_ref> cells;  // full: the cells this tile's pixels used, for the next frame
 };
 
@@ -62,37 +64,75 @@ void note_cell(std::vector<cell_ref>& cells, const cell_ref& c) {
 }
 
 // Interp and full modes. Full: a pixel owned by one of last frame's cells is span-filled
-// from it; otherwise, and when its bound fails, it takes the interpolate path.
+// from it; otherwise, and when its bound fails, it takes the interpolate path. Runs of a
+// plain cell's pixels are filled in screen space (span_fill.h), the rest pixel by pixel.
 void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int lf_depth, const tile& t, image& out,
                        image* reasons, tile_totals& tot) {
   trace_state st;
   interp_scratch scratch;
   const camera& cam = *f.cam;
+  const int segment = f.p.span_segment;
+  std::vector<glm::vec3> span_L(rp && segment > 0 ? size_t(cam.width) : 0);
+  std::vector<std::uint8_t> span_ok(span_L.size());
+  auto count = [&](const pixel_result& r, std::uint64_t ticks) {
+    if (rp && r.cell.node) note_cell(tot.cells, r.cell);
+    const bool deferring = r.cell.ip && (r.cell.ip->deferred | r.cell.ip->deferred_rays);
+    if (deferring) ++tot.pixels.deferred, tot.ticks_deferred += ticks;
+    switch (r.path) {
+      case pixel_path::fast: tot.pixels.fast += 1, tot.ticks_fast += ticks; break;
+      case pixel_path::interp: tot.pixels.interp += 1, tot.ticks_interp += ticks; break;
+      case pixel_path::base: tot.pixels.base += 1, tot.ticks_base += ticks; break;
+    }
+  };
+  auto shade_one = [&](int x, int y) {
+    const std::uint64_t c0 = cycle_now();
+    pixel_result r;
+    const std::int32_t own = rp ? rp->owner[size_t(y) * size_t(cam.width) + size_t(x)] : -1;
+    if (own >= 0 && fill_pixel(*f.w, cam, (*rp->cells)[size_t(own)], (*rp->trust)[size_t(own)], x, y, f.p.eps, st,
+                               r.L)) {
+      r.path = pixel_path::fast, r.reason = pixel_reason::reprojected, r.cell = (*rp->cells)[size_t(own)];
+    } else if (lf_depth >= 0) {
+      r = shade_pixel_lightfield(f, lf_depth, x, y, st, scratch);
+    } else {
+      r = shade_pixel_interp(f, x, y, st, scratch);
+    }
+    out.at(x, y) = r.L;
+    if (reasons) reasons->at(x, y) = reason_colour(r.reason);
+    count(r, cycle_now() - c0);
+  };
   for (int y = t.y0; y < t.y1; ++y) {
-    std::uint64_t c0 = cycle_now();
-    for (int x = 0; x < cam.width; ++x) {
+    const std::int32_t* owner = rp ? rp->owner + size_t(y) * size_t(cam.width) : nullptr;
+    for (int x = 0; x < cam.width;) {
+      const std::int32_t own = owner ? owner[x] : -1;
+      int xe = x;
+      if (own >= 0)
+        while (xe + 1 < cam.width && owner[xe + 1] == own) ++xe;
+      if (xe == x || span_L.empty() || !span_fillable((*rp->cells)[size_t(own)], (*rp->trust)[size_t(own)])) {
+        for (; x <= xe; ++x) shade_one(x, y);
+        continue;
+      }
+      // A run of one plain cell's pixels: filled in screen space; a pixel the bound does
+      // not pass takes the per-pixel path.
+      const std::uint64_t c0 = cycle_now();
+      const cell_ref& c = (*rp->cells)[size_t(own)];
+      const int passed = fill_span(cam, c, y, x, xe, segment, f.p.eps, span_L.data(), span_ok.data());
       pixel_result r;
-      const std::int32_t own = rp ? rp->owner[size_t(y) * size_t(cam.width) + size_t(x)] : -1;
-      if (own >= 0 && fill_pixel(*f.w, cam, (*rp->cells)[size_t(own)], (*rp->trust)[size_t(own)], x, y, f.p.eps, st,
-                                 r.L)) {
-        r.path = pixel_path::fast, r.reason = pixel_reason::reprojected, r.cell = (*rp->cells)[size_t(own)];
-      } else if (lf_depth >= 0) {
-        r = shade_pixel_lightfield(f, lf_depth, x, y, st, scratch);
-      } else {
-        r = shade_pixel_interp(f, x, y, st, scratch);
+      r.path = pixel_path::fast, r.reason = pixel_reason::reprojected, r.cell = c;
+      const glm::vec3 colour = reason_colour(pixel_reason::reprojected);
+      for (int i = 0; i <= xe - x; ++i) {
+        if (!span_ok[size_t(i)]) continue;
+        out.at(x + i, y) = span_L[size_t(i)];
+        if (reasons) reasons->at(x + i, y) = colour;
       }
-      out.at(x, y) = r.L;
-      if (reasons) reasons->at(x, y) = reason_colour(r.reason);
-      if (rp && r.cell.node) note_cell(tot.cells, r.cell);
-      const bool deferring = r.cell.ip && (r.cell.ip->deferred | r.cell.ip->deferred_rays);
-      const std::uint64_t c1 = cycle_now();
-      if (deferring) ++tot.pixels.deferred, tot.ticks_deferred += c1 - c0;
-      switch (r.path) {
-        case pixel_path::fast: tot.pixels.fast += 1, tot.ticks_fast += c1 - c0; break;
-        case pixel_path::interp: tot.pixels.interp += 1, tot.ticks_interp += c1 - c0; break;
-        case pixel_path::base: tot.pixels.base += 1, tot.ticks_base += c1 - c0; break;
+      const std::uint64_t ticks = cycle_now() - c0;
+      if (passed) {
+        tot.pixels.span += std::uint64_t(passed);
+        note_cell(tot.cells, c);
+        tot.pixels.fast += std::uint64_t(passed), tot.ticks_fast += ticks, tot.ticks_span += ticks;
       }
-      c0 = c1;
+      for (int i = 0; i <= xe - x; ++i)
+        if (!span_ok[size_t(i)]) shade_one(x + i, y);
+      x = xe + 1;
     }
   }
   tot.rays = st.counts;
@@ -251,6 +291,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     out.path_ms.fast += double(t.ticks_fast) / tick_ms;
     out.path_ms.interp += double(t.ticks_interp) / tick_ms, out.path_ms.base += double(t.ticks_base) / tick_ms;
     out.path_ms.deferred += double(t.ticks_deferred) / tick_ms;
+    out.path_ms.span += double(t.ticks_span) / tick_ms;
   }
   if (p.mode == render_mode::full) {
     reprojection_ahead& ahead = p.reproj->ahead;

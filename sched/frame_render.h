@@ -30,8 +30,9 @@ bool parse_mode(const std::string& s, render_mode& out);
 struct pixel_counts {
   std::uint64_t fast = 0, interp = 0, base = 0;
   std::uint64_t deferred = 0;  // of fast and interp: cells that cast some rays per pixel
+  std::uint64_t span = 0;      // of fast: filled in screen space along a span (span_fill.h)
   pixel_counts& operator+=(const pixel_counts& o) {
-    fast += o.fast, interp += o.interp, base += o.base, deferred += o.deferred;
+    fast += o.fast, interp += o.interp, base += o.base, deferred += o.deferred, span += o.span;
     return *this;
   }
 };
@@ -41,6 +42,7 @@ struct pixel_counts {
 struct path_times {
   double fast = 0, interp = 0, base = 0;  // ms
   double deferred = 0;  // of fast + interp: the pixels that cast per-pixel rays (pixel_counts::deferred)
+  double span = 0;      // of fast: the runs filled in screen space (pixel_counts::span)
 };
 
 // What full mode carries from one frame to the next besides the linetrees: the cells that

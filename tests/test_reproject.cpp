@@ -6,10 +6,13 @@
 
 #include <cmath>
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
+#include <random>
 
 #include "reproject/face_raster.h"
 #include "reproject/reproject.h"
+#include "reproject/span_fill.h"
 #include "sched/frame_render.h"
 #include "sched/verify.h"
 #include "test_util.h"
@@ -51,13 +54,14 @@ camera_view slid(const camera_view& v, float dx) {
 struct walk_result {
   std::vector<image> frames;
   std::uint64_t fast = 0;
+  std::uint64_t span = 0;  // of fast: span-filled in screen space
   int ahead_frames = 0;  // frames that prepared the next one's reprojection (--pipeline)
   size_t max_linetree_bytes = 0;
 };
 
 walk_result walk_full(const world& w, const std::vector<camera_view>& views, int width, int height, int threads,
                       float eps, bool verify, size_t memory_budget = 0, std::unique_ptr<face_raster> raster = nullptr,
-                      bool pipeline = false) {
+                      bool pipeline = false, int span_segment = -1) {
   linetree_set trees(w.prim_bounds, memory_budget);
   reprojection_state reproj;
   reproj.raster = std::move(raster);
@@ -67,6 +71,7 @@ walk_result walk_full(const world& w, const std::vector<camera_view>& views, int
   p.interp.eps = eps;
   p.trees = &trees;
   p.reproj = &reproj;
+  if (span_segment >= 0) p.interp.span_segment = span_segment;
   walk_result out;
   for (size_t k = 0; k < views.size(); ++k) {
     const camera cam = make_camera(views[k], width, height);
@@ -82,7 +87,7 @@ walk_result walk_full(const world& w, const std::vector<camera_view>& views, int
       verify_result vr = verify_frame(pool, w, cam, fr.img, eps);
       EXPECT_EQ(vr.violations, 0u) << "frame " << k << ", max error " << vr.max_rel_err;
     }
-    if (k > 0) out.fast += fr.pixels.fast;
+    if (k > 0) out.fast += fr.pixels.fast, out.span += fr.pixels.span;
     out.max_linetree_bytes = std::max(out.max_linetree_bytes, trees.bytes());
     // The running count of bytes published and freed equals a walk over every tree, also
     // after evictions and with threads racing to publish.
@@ -129,6 +134,7 @@ TEST(Reprojection, FullModeImagesIgnoreThreadCount) {
     for (size_t k = 0; k < a.frames.size(); ++k)
       EXPECT_TRUE(test::same_pixels(a.frames[k], b.frames[k])) << threads << " threads, frame " << k;
     EXPECT_EQ(a.fast, b.fast) << threads << " threads";
+    EXPECT_EQ(a.span, b.span) << threads << " threads";
   }
   EXPECT_GT(a.fast, 0u);
 }
@@ -277,6 +283,124 @@ TEST(Reprojection, RowRunsOwnThePixelsThePerPixelTestWould) {
   for (size_t k = 0; k < rows.size(); ++k) owned += brute[k] >= 0, differ += rows[k] != brute[k];
   EXPECT_GT(owned, rows.size() / 2) << "most pixels are reprojected";
   EXPECT_LE(differ, rows.size() / 1000) << differ << " of " << owned << " owned pixels differ";
+}
+
+// --- span filling in screen space (span_fill.h) ------------------------------------------
+
+// Q is multilinear, so its derivatives over the cell are bounded by the corners' first and
+// mixed second differences; checked against the exact derivatives at random points.
+TEST(SpanFill, CornerDifferencesBoundTheInterpolantsDerivatives) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (int trial = 0; trial < 50; ++trial) {
+    glm::vec3 v[16];
+    for (glm::vec3& c : v) c = {u(rng), 2 * u(rng), u(rng) * u(rng)};
+    const corner_differences d = corner_differences_of(v);
+    for (int s = 0; s < 20; ++s) {
+      float t[4];
+      for (float& x : t) x = u(rng);
+      auto at = [&](int i, float ti, int j, float tj) {
+        float q[4] = {t[0], t[1], t[2], t[3]};
+        q[i] = ti;
+        if (j >= 0) q[j] = tj;
+        return quadrilinear(v, q);
+      };
+      for (int i = 0; i < 4; ++i) {
+        const glm::vec3 d1 = glm::abs(at(i, 1, -1, 0) - at(i, 0, -1, 0));  // dQ/dt_i, exactly
+        EXPECT_TRUE(glm::all(glm::lessThanEqual(d1, d.d1[i] + 1e-5f))) << "axis " << i;
+        for (int j = 0; j < 4; ++j) {
+          if (j == i) continue;
+          const glm::vec3 d2 = glm::abs(at(i, 1, j, 1) - at(i, 1, j, 0) - at(i, 0, j, 1) + at(i, 0, j, 0));
+          EXPECT_TRUE(glm::all(glm::lessThanEqual(d2, d.d2[i][j] + 1e-5f))) << "axes " << i << j;
+        }
+      }
+    }
+  }
+}
+
+// Linear interpolation between a segment's end pixels stays within span_error's bound of
+// the interpolant at every pixel's own line, on every run of a plain cell the art room's
+// next eye reprojects, for short and long segments. The second-order term is needed: some
+// pixels deviate by more than the rounding term alone allows.
+TEST(SpanFill, ScreenSpaceInterpolationStaysWithinItsBound) {
+  const int width = 200, height = 150;
+  next_eye e(width, height);
+  const camera& cam = e.cam;
+  const std::vector<cell_ref>& cells = e.reproj.cells;
+  std::vector<std::int32_t> owner(size_t(width) * height);
+  splat_rows(cam, cells, e.trusted, e.rects, 0, height, owner.data());
+  auto value = [&](const cell_ref& c, int x, int y, glm::vec3& L) {
+    float x4[4], t[4];
+    if (!eye_line_in_cell(cam, c, x, y, x4)) return false;
+    for (int i = 0; i < 4; ++i) t[i] = std::clamp((x4[i] - c.node->lo[i]) / (c.node->hi[i] - c.node->lo[i]), 0.0f, 1.0f);
+    L = quadrilinear(c.ip->rad, t);
+    return true;
+  };
+  size_t segments = 0, pixels = 0, second_order = 0;
+  double worst = 0;  // largest deviation over its bound
+  for (int segment : {4, 16, 64}) {
+    for (int y = 0; y < height; ++y) {
+      const std::int32_t* row = owner.data() + size_t(y) * width;
+      for (int x0 = 0; x0 < width;) {
+        int x1 = x0;
+        while (x1 + 1 < width && row[x1 + 1] == row[x0]) ++x1;
+        const std::int32_t own = row[x0];
+        if (own >= 0 && span_fillable(cells[size_t(own)], e.trusted[size_t(own)])) {
+          const cell_ref& c = cells[size_t(own)];
+          const corner_differences d = corner_differences_of(c.ip->rad);
+          for (int xa = x0; xa + 1 < x1; xa += segment) {
+            const int xb = std::min(xa + segment, x1);
+            glm::vec3 La, Lb, L;
+            if (!value(c, xa, y, La) || !value(c, xb, y, Lb)) continue;
+            const span_bound b = span_error(cam, c, d, y, xa, xb);
+            ++segments;
+            for (int x = xa + 1; x < xb; ++x) {
+              if (!value(c, x, y, L)) continue;
+              const float f = float(x - xa) / float(xb - xa);
+              const glm::vec3 dev = glm::abs(La + f * (Lb - La) - L);
+              const glm::vec3 bound = 0.5f * float(x - xa) * float(xb - x) * b.m2 + 2.0f * b.rounding;
+              for (int ch = 0; ch < 3; ++ch) {
+                // Float rounding of the lerp itself (within's own margin covers it).
+                const float slack = 2e-6f * std::fabs(L[ch]) + 1e-9f;
+                EXPECT_LE(dev[ch], bound[ch] + slack) << "row " << y << ", pixels " << xa << ".." << xb << ", x " << x;
+                if (bound[ch] > 0) worst = std::max(worst, double(dev[ch]) / double(bound[ch]));
+                second_order += dev[ch] > 2.0f * b.rounding[ch] + slack;
+              }
+              ++pixels;
+            }
+          }
+        }
+        x0 = x1 + 1;
+      }
+    }
+  }
+  EXPECT_GT(segments, 1000u);
+  EXPECT_GT(pixels, 5000u);
+  std::printf("span pixels checked %zu, deviation over bound at most %.3f, %zu needing the second-order term\n",
+              pixels, worst, second_order);
+  EXPECT_GT(second_order, 0u) << "no pixel needed the second-order term";
+  RecordProperty("worst_deviation_over_bound", std::to_string(worst));
+}
+
+// Full mode with span filling: zero pixels over epsilon along a walk, most plain pixels
+// span-filled, and the same images for 1 and 2 threads (spans follow the owner buffer's
+// runs, which do not depend on tiles). Per-pixel evaluation (--span 0) stays within too.
+TEST(SpanFill, FullWalkStaysWithinEpsAndIgnoresThreadCount) {
+  world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/artroom.nff"));
+  std::vector<camera_view> views;
+  for (int k = 0; k < 4; ++k) {
+    camera_view v = w.sc.view;
+    v.from += 0.04f * float(k) * glm::normalize(v.at - v.from), v.at.x += 0.05f * float(k);
+    views.push_back(v);
+  }
+  const walk_result a = walk_full(w, views, 160, 120, 1, 0.05f, true);
+  const walk_result b = walk_full(w, views, 160, 120, 2, 0.05f, false);
+  for (size_t k = 0; k < a.frames.size(); ++k) EXPECT_TRUE(test::same_pixels(a.frames[k], b.frames[k])) << "frame " << k;
+  EXPECT_EQ(a.span, b.span);
+  EXPECT_GT(a.span, 2000u) << a.span << " of " << a.fast << " fast pixels span-filled";
+  const walk_result none = walk_full(w, views, 160, 120, 2, 0.05f, true, 0, nullptr, false, 0);
+  EXPECT_EQ(none.span, 0u);
+  EXPECT_EQ(none.fast, a.fast) << "spans fill the pixels per-pixel evaluation would";
 }
 
 // While the camera moves, cells refused for an edge are not split below

@@ -31,6 +31,9 @@ struct interp_params {
   // and an object that small is mostly silhouette (an SPD scene's thousand triangles).
   float min_prim_pixels = 1024;
   bool four_way = true;        // halve only the axes the failure points at (section 8.6)
+  // Full: runs of a plain cell's pixels are span-filled in screen space, in segments of at
+  // most this many pixels (engine/reproject/span_fill.h); 0: every pixel evaluates its cell.
+  int span_segment = 32;
 };
 
 // How a pixel got its radiance, and why an interpolant was not used.
@@ -102,6 +105,9 @@ pixel_line find_pixel_line(const interp_frame& f, int x, int y, trace_state& st,
 // Is the proven bound within epsilon for every line of the cell (textured cells: decided
 // per line)?
 bool cell_accurate(const interpolant& ip, float eps);
+// The per-pixel test of whitted.md 6 for interpolated radiance La with proven error E (per
+// channel): the relative error is within eps, with a margin for float rounding.
+bool within(glm::vec3 La, glm::vec3 E, float eps);
 // Is an eye ray's first hit on the shape the first hit of its line after the front plane
 // (the one the interpolant holds)?
 bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye);

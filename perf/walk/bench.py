@@ -64,8 +64,9 @@ def main():
                   time.strftime("%Y-%m-%d %H:%M")))
     lines.append("| mode | median frame ms | base / mode | fast | interp | base-traced | with per-pixel rays | "
                  "cost fast | cost interp | cost base | cost of fast + interp, nothing deferred | "
-                 "with per-pixel rays | reprojection ms | linetree MB (first / middle / last) | linetree MB, largest of frames 0-29 |")
-    lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|")
+                 "with per-pixel rays | span-filled | cost span-filled | reprojection ms | "
+                 "linetree MB (first / middle / last) | linetree MB, largest of frames 0-29 |")
+    lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|")
     for m in modes:
         fs = frames(m)
         px = {k: sum(f["pixels"][k] for f in fs) for k in ("fast", "interp", "base")}
@@ -80,11 +81,15 @@ def main():
         rest_px = px["fast"] + px["interp"] - deferred
         c_rest = (tm["fast"] + tm["interp"] - d_ms) / rest_px / base_px_ms if rest_px else float("nan")
         c_def = d_ms / deferred / base_px_ms if deferred else float("nan")
-        lines.append("| %s | %.1f | %.2f | %.1f%% | %.1f%% | %.1f%% | %.1f%% | %.3f | %.2f | %.2f | %.2f | %.2f | %.1f | "
-                     "%.1f / %.1f / %.1f | %.1f |" %
+        # Fast pixels filled in screen space along spans (span_fill.h), and their cost.
+        span = sum(f.get("span_pixels", 0) for f in fs)
+        c_span = sum(f.get("span_ms", 0) for f in fs) / span / base_px_ms if span else float("nan")
+        lines.append("| %s | %.1f | %.2f | %.1f%% | %.1f%% | %.1f%% | %.1f%% | %.3f | %.2f | %.2f | %.2f | %.2f | %.1f%% | "
+                     "%.3f | %.1f | %.1f / %.1f / %.1f | %.1f |" %
                      (m, med[m], med["base"] / med[m], 100 * px["fast"] / allpx, 100 * px["interp"] / allpx,
                       100 * px["base"] / allpx, 100 * deferred / allpx, cost["fast"], cost["interp"], cost["base"],
-                      c_rest, c_def, rep, mem[0], mem[len(mem) // 2], mem[-1], max(mem[:30])))
+                      c_rest, c_def, 100 * span / allpx, c_span, rep, mem[0], mem[len(mem) // 2], mem[-1],
+                      max(mem[:30])))
     worst = max(f["verify"]["max_rel_err"] for f in checked["frames"])
     over = sum(f["verify"]["violations"] for f in checked["frames"])
     lines.append("")
