@@ -347,6 +347,10 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
     scratch.hint_tree = &lt, scratch.hint = node;
     ip = node->interp.load(std::memory_order_acquire);
     if (ip && cell_accurate(*ip, f.p.eps)) break;  // the common case once built: no cost model
+    // A lookup already ended here in this frame, so this camera's cost model stops here
+    // (it depends on the cell and the camera alone): no need to measure the cell again.
+    // Pixels along an edge mostly end in a few such cells, once per pixel.
+    if (ip && node->used.load(std::memory_order_relaxed) == f.trees->frame()) break;
     // Children of a 16-way split cover a quarter of the cell's pixels, of a 4-way split half.
     const float pixels = cell_pixels(cam, lt.fp, *node);
     const bool can_split = node->depth < f.p.max_depth && pixels >= 4 * f.p.min_cell_pixels;
