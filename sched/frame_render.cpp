@@ -84,8 +84,14 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
       case pixel_path::base: tot.pixels.base += 1, tot.ticks_base += ticks; break;
     }
   };
+  // One clock read per pixel (or per span): each pixel's time runs from the last read.
+  std::uint64_t clock = cycle_now();
+  auto lap = [&] {
+    const std::uint64_t now = cycle_now(), ticks = now - clock;
+    clock = now;
+    return ticks;
+  };
   auto shade_one = [&](int x, int y) {
-    const std::uint64_t c0 = cycle_now();
     pixel_result r;
     const std::int32_t own = rp ? rp->owner[size_t(y) * size_t(cam.width) + size_t(x)] : -1;
     if (own >= 0 && fill_pixel(*f.w, cam, (*rp->cells)[size_t(own)], (*rp->trust)[size_t(own)], x, y, f.p.eps, st,
@@ -98,7 +104,7 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
     }
     out.at(x, y) = r.L;
     if (reasons) reasons->at(x, y) = reason_colour(r.reason);
-    count(r, cycle_now() - c0);
+    count(r, lap());
   };
   for (int y = t.y0; y < t.y1; ++y) {
     const std::int32_t* owner = rp ? rp->owner + size_t(y) * size_t(cam.width) : nullptr;
@@ -112,20 +118,17 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
         continue;
       }
       // A run of one plain cell's pixels: filled in screen space; a pixel the bound does
-      // not pass takes the per-pixel path.
-      const std::uint64_t c0 = cycle_now();
+      // not pass takes the per-pixel path. The span's time includes the run's scan.
       const cell_ref& c = (*rp->cells)[size_t(own)];
       const int passed = fill_span(cam, c, y, x, xe, segment, f.p.eps, span_L.data(), span_ok.data());
-      pixel_result r;
-      r.path = pixel_path::fast, r.reason = pixel_reason::reprojected, r.cell = c;
       const glm::vec3 colour = reason_colour(pixel_reason::reprojected);
       for (int i = 0; i <= xe - x; ++i) {
         if (!span_ok[size_t(i)]) continue;
         out.at(x + i, y) = span_L[size_t(i)];
         if (reasons) reasons->at(x + i, y) = colour;
       }
-      const std::uint64_t ticks = cycle_now() - c0;
-      if (passed) {
+      if (passed) {  // else the attempt's time goes to the pixels' own paths below
+        const std::uint64_t ticks = lap();
         tot.pixels.span += std::uint64_t(passed);
         note_cell(tot.cells, c);
         tot.pixels.fast += std::uint64_t(passed), tot.ticks_fast += ticks, tot.ticks_span += ticks;
