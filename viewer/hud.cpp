@@ -35,6 +35,8 @@ void draw_hud(viewer_state& s, const shown_frame& f, const frame_times& times, c
   // Thread time per path, summed over the workers (the paper's Table 1 costs).
   const double all = double(st.pixels.fast + st.pixels.interp + st.pixels.base);
   path_row("fast", path_colours[0], st.pixels.fast, all, st.path_ms.fast);
+  if (st.pixels.span)  // the part of fast filled in screen space along spans
+    ImGui::Text("  span  %5.1f%% of pixels  %7.1f ms", 100.0 * double(st.pixels.span) / all, st.path_ms.span);
   path_row("interp", path_colours[1], st.pixels.interp, all, st.path_ms.interp);
   path_row("base", path_colours[2], st.pixels.base, all, st.path_ms.base);
   ImGui::Text("linetrees and images %.1f MB", double(st.memory_bytes) / 1e6);
