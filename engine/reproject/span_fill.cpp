@@ -59,12 +59,14 @@ span_bound span_error(const camera& cam, const cell_ref& c, const corner_differe
     const double C = std::fabs(Q[e] * P[ax] - P[e] * Q[ax]);
     tp[i] = k * C * m * m;
     tpp[i] = 2 * k * std::fabs(Q[ax]) * C * m * m * m;
-    // Float lines: eye_direction's unit vector is off by a few ulps per component, which
-    // moves r_e by about (1 + |r_e|) / |d_axis| of that; line_coords' own operations add a
-    // few ulps of |o_e| and |x4_i|. 1e-6 covers both with room (float's ulp is 1.2e-7).
+    // Float lines: eye_direction's unit vector is off by a few ulps per component (its sum
+    // of three products and the normalization), which moves r_e by about
+    // (1 + |r_e|) / |d_axis| of that; line_coords' own operations add a few ulps of |o_e|
+    // and |x4_i|. 4e-6 covers both several times over (float's ulp at 1 is 1.2e-7); the
+    // term is tiny next to a cell's own error.
     const double re = std::max(std::fabs(Da[e] / Da[ax]), std::fabs(Db[e] / Db[ax]));  // r_e is monotone
     const double x4 = std::fabs(o[e]) + std::fabs(K) * re;
-    dt[i] = 1e-6 * ((1 + re) * std::fabs(K) / unit_axis + std::fabs(o[e]) + x4) / width;
+    dt[i] = 4e-6 * ((1 + re) * std::fabs(K) / unit_axis + std::fabs(o[e]) + x4) / width;
   }
   span_bound b;
   for (int ch = 0; ch < 3; ++ch) {
