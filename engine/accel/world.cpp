@@ -46,7 +46,14 @@ world make_world(scene s) {
   std::vector<int> owner;  // reference -> scene primitive
   boxes.reserve(s.prims.size());
   for (int i = 0; i < int(s.prims.size()); ++i) add_references(s, i, boxes, owner);
-  for (const bounds& b : boxes) w.box.grow(b);
+  for (const bounds& b : boxes) w.box.grow(b);  // the scene's own bounds (whitted.md's delta)
+  // The BVH must never cull a primitive its own hit test would hit: a box's bounds, c +-
+  // half rounded to the nearest float, may lie an ulp inside its faces, and a shadow ray
+  // grazing such an edge was then "lit" through the BVH but "blocked" when the last
+  // blocker was tried first (trace_state::last_blocker), so a pixel's reference radiance
+  // depended on the pixel traced before it. Grown by ~100 ulps, every shape's bounds hold
+  // it whatever its test rounds.
+  for (bounds& b : boxes) b = with_rounding_margin(b);
   w.tree = build_bvh(boxes);
   // Primitive ids follow the first leaf that references each primitive, for locality.
   std::vector<int> id_of(s.prims.size(), -1);
