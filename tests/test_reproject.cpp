@@ -332,7 +332,7 @@ TEST(SpanFill, ScreenSpaceInterpolationStaysWithinItsBound) {
   auto value = [&](const cell_ref& c, int x, int y, glm::vec3& L) {
     float x4[4], t[4];
     if (!eye_line_in_cell(cam, c, x, y, x4)) return false;
-    for (int i = 0; i < 4; ++i) t[i] = std::clamp((x4[i] - c.node->lo[i]) / (c.node->hi[i] - c.node->lo[i]), 0.0f, 1.0f);
+    cell_fractions(*c.node, x4, t);
     L = quadrilinear(c.ip->rad, t);
     return true;
   };

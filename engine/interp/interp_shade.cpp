@@ -258,7 +258,7 @@ bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye) {
 bool interpolate_line(const world& w, int prim, const lt_node& n, const interpolant& ip, const float x4[4], float eps,
                       const ray& r, float t_hit, trace_state& st, glm::vec3& L) {
   float t[4];
-  for (int i = 0; i < 4; ++i) t[i] = std::clamp((x4[i] - n.lo[i]) / (n.hi[i] - n.lo[i]), 0.0f, 1.0f);
+  cell_fractions(n, x4, t);
   L = quadrilinear(ip.rad, t);
   glm::vec3 E = ip.err;
   const bool deferring = (ip.deferred | ip.deferred_rays) != 0;

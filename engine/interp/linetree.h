@@ -5,6 +5,7 @@
 // What gets built is a pure function of the cell (and the camera's cost model), so who
 // wins changes nothing observable.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <bit>
@@ -61,6 +62,12 @@ inline bool holds(const lt_node& n, const float x[4]) {
   for (int i = 0; i < 4; ++i)
     if (!(x[i] >= n.lo[i] && x[i] <= n.hi[i])) return false;
   return true;
+}
+
+// Where the line x lies in the cell, each coordinate as a fraction of its range (the
+// quadrilinear interpolant's t), clamped to [0, 1] against rounding at the cell's faces.
+inline void cell_fractions(const lt_node& n, const float x[4], float t[4]) {
+  for (int i = 0; i < 4; ++i) t[i] = std::clamp((x[i] - n.lo[i]) / (n.hi[i] - n.lo[i]), 0.0f, 1.0f);
 }
 
 // The child of n holding x, given n's published children.

@@ -98,7 +98,7 @@ int fill_span(const camera& cam, const cell_ref& c, int y, int x0, int x1, int s
   auto end_value = [&](int x, glm::vec3& v) {
     float x4[4], t[4];
     if (!eye_line_in_cell(cam, c, x, y, x4)) return false;
-    for (int i = 0; i < 4; ++i) t[i] = std::clamp((x4[i] - n.lo[i]) / (n.hi[i] - n.lo[i]), 0.0f, 1.0f);
+    cell_fractions(n, x4, t);
     v = quadrilinear(ip.rad, t);
     return true;
   };
