@@ -49,7 +49,8 @@ std::string usage_text() {
          "       epsray view   [SCENE] [--path FILE] [--size WxH] [--eps E] [--threads N]\n"
          "                      [--record FILE] [--script FILE] [--screenshot OUT.png] [--memory-mb M]\n"
          "       epsray info\n"
-         "extra: --tile-rows N (rows per tile), --quiet (no summary on stdout),\n"
+         "extra: --tile-rows N (rows per tile), --tile-order cost|scan (dearest tiles first, by\n"
+         "       last frame's costs; or top to bottom), --quiet (no summary on stdout),\n"
          "       --reasons OUT.png (render: the error-coded image), --verify (render too),\n"
          "       --min-cell-pixels P (no linetree cell is split into children covering fewer pixels),\n"
          "       --min-prim-pixels P (primitives whose box covers fewer pixels are traced; default 1024),\n"
@@ -102,6 +103,11 @@ cli_options parse_args(const std::vector<std::string>& a) {
     } else if (f == "--eps") o.eps = float(to_number("--eps", value(), 0, 1e6));
     else if (f == "--threads") o.threads = int(to_int("--threads", value(), 1, 1024));
     else if (f == "--tile-rows") o.tile_rows = int(to_int("--tile-rows", value(), 1, 16384));
+    else if (f == "--tile-order") {
+      const std::string& v = value();
+      if (v != "cost" && v != "scan") bad("bad --tile-order '" + v + "': expected cost or scan");
+      o.order = v == "cost" ? tile_order::costly_first : tile_order::scan;
+    }
     else if (f == "--png") {
       if (walk) o.png_flag = true;
       else o.png = value();

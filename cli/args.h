@@ -24,6 +24,7 @@ struct cli_options {
   float eps = 0.05f;
   int threads = 0;  // 0: all hardware threads
   int tile_rows = 0;
+  tile_order order = tile_order::costly_first;
   std::string png, pfm, stats, out_dir, reasons;
   std::string record, script, screenshot;  // view only
   float min_cell_pixels = 16;

@@ -91,6 +91,7 @@ frame_params make_frame_params(const cli_options& o, linetree_set* trees, reproj
   fp.trees = trees;
   fp.reproj = reproj;
   fp.tile_rows = o.tile_rows;
+  fp.order = o.order;
   fp.reasons = !o.reasons.empty();
   fp.upsample = o.upsample, fp.reuse_age = o.reuse_age, fp.lf_depth = o.lf_depth;
   return fp;

@@ -73,7 +73,8 @@ int run_render(const cli_options& o) {
     run_record r;
     r.scene = o.scene, r.mode = mode_name(o.mode), r.width = width, r.height = height, r.threads = threads;
     r.eps = o.eps;
-    frame_record fr_rec{o.frame.value_or(0), fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms};
+    frame_record fr_rec{o.frame.value_or(0), fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms,
+                        fr.ahead_ms, fr.ahead_wait_ms, fr.shade, fr.after_ms};
     fr_rec.verified = o.verify;
     fr_rec.max_rel_err = vr.max_rel_err, fr_rec.p999_rel_err = vr.p999_rel_err, fr_rec.mean_rel_err = vr.mean_rel_err, fr_rec.violations = vr.violations;
     r.frames.push_back(fr_rec);

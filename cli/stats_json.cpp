@@ -43,6 +43,8 @@ void write_stats_json(const run_record& r, const std::string& path) {
                            {"deferred_ms", f.path_ms.deferred},
                            {"memory_bytes", f.memory_bytes},
                            {"linetree_bytes", f.linetree_bytes}};
+    fj["sched"] = {{"shade_ms", f.shade.wall_ms}, {"join_ms", f.shade.join_ms}, {"tail_ms", f.shade.tail_ms},
+                   {"after_ms", f.after_ms}};
     if (f.ahead_ms > 0) fj["ahead_ms"] = f.ahead_ms, fj["ahead_wait_ms"] = f.ahead_wait_ms;
     if (f.verified)
       fj["verify"] = {{"max_rel_err", f.max_rel_err}, {"violations", f.violations}, {"p999_rel_err", f.p999_rel_err},

@@ -16,6 +16,8 @@ struct frame_record {
   path_times path_ms;  // thread time per path
   double reproject_ms = 0;
   double ahead_ms = 0, ahead_wait_ms = 0;  // --pipeline (frame_result)
+  phase_times shade;   // the tile phase and its threads' waits (frame_result)
+  double after_ms = 0;
   bool verified = false;
   double max_rel_err = 0, p999_rel_err = 0, mean_rel_err = 0;
   std::uint64_t violations = 0;

@@ -76,7 +76,7 @@ int run_walk(const cli_options& o) {
     frame_result fr = render_frame(pool, w, cam, fp);
     check_finite(fr.img);
     frame_record r{k, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms,
-                   fr.ahead_ms, fr.ahead_wait_ms};
+                   fr.ahead_ms, fr.ahead_wait_ms, fr.shade, fr.after_ms};
     if (o.verify) {
       verify_result vr = verify_frame(pool, w, cam, fr.img, o.eps);
       r.verified = true, r.max_rel_err = vr.max_rel_err, r.p999_rel_err = vr.p999_rel_err, r.mean_rel_err = vr.mean_rel_err;

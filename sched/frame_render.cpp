@@ -43,7 +43,9 @@ bool parse_mode(const std::string& s, render_mode& out) {
 
 namespace {
 
-struct tile_totals {
+// A cache line of its own: shade_tile_interp counts into it pixel by pixel while the
+// threads next door count into their tiles' totals.
+struct alignas(64) tile_totals {
   ray_counts rays;
   pixel_counts pixels;
   std::uint64_t ticks_fast = 0, ticks_interp = 0, ticks_base = 0;
@@ -249,8 +251,9 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       out.reproject_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
     }
   }
-  pool.run([&] {
-    tbb::parallel_for(size_t(0), tiles.size(), [&](size_t i) {
+  // The tiles, dearest first by last frame's costs (tile_queue.h).
+  std::vector<std::uint64_t> tile_ticks(tiles.size());
+  out.shade = run_tiles(pool, pool.history().order(tiles.size(), p.order), [&](size_t i) {
       const std::uint64_t c0 = cycle_now();
       trace_state st;
       switch (p.mode) {
@@ -286,8 +289,10 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       if (p.reasons && (p.mode == render_mode::base || p.mode == render_mode::upsample || p.mode == render_mode::reuse))
         for (int y = tiles[i].y0; y < tiles[i].y1; ++y)
           for (int x = 0; x < cam.width; ++x) out.reasons.at(x, y) = reason_colour(pixel_reason::traced);
-    });
+      tile_ticks[i] = cycle_now() - c0;
   });
+  pool.history().ticks = std::move(tile_ticks);
+  const auto a0 = std::chrono::steady_clock::now();
   if (reuse) std::swap(reuse->last, reuse->next);
   for (const tile_totals& t : totals) {
     out.rays += t.rays, out.pixels += t.pixels;
@@ -311,7 +316,9 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   }
   if (p.trees) p.trees->evict();  // between frames: nothing else touches the trees now
   for (const ray_tree_store& t : trees) out.trees.append(t);
-  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const auto t1 = std::chrono::steady_clock::now();
+  out.after_ms = std::chrono::duration<double, std::milli>(t1 - a0).count();
+  out.ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
   // After the clock: measuring linetree memory walks every node.
   out.linetree_bytes = p.trees ? p.trees->bytes() : 0;
   out.memory_bytes = out.img.pixels.capacity() * sizeof(glm::vec3) + out.trees.bytes() + out.linetree_bytes;

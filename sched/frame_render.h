@@ -12,6 +12,7 @@
 #include "interp/linetree.h"
 #include "reproject/face_raster.h"
 #include "reproject_frame.h"
+#include "tile_queue.h"
 #include "scene/camera.h"
 #include "shade/ray_tree_store.h"
 #include "shade/whitted.h"
@@ -65,6 +66,7 @@ struct frame_params {
                                    // (its memory budget is enforced after each frame)
   reprojection_state* reproj = nullptr;  // kept between frames by the caller; needed by full
   int tile_rows = 0;               // 0: default_tile_rows
+  tile_order order = tile_order::costly_first;  // how tiles are handed to threads (tile_queue.h)
   // Full, pipelined: the next frame's eye, whose reprojection is prepared on a thread of
   // its own from the last frame's cells while this frame is shaded (null: none).
   const camera* next_camera = nullptr;
@@ -90,6 +92,10 @@ struct frame_result {
   double ahead_ms = 0, ahead_wait_ms = 0;
   std::uint64_t reprojected_cells = 0, trusted_cells = 0;
   path_times path_ms;
+  // Where the wall time went: the tile phase (with its threads' waits) and what follows it
+  // (full: merging the cells used, eviction).
+  phase_times shade;
+  double after_ms = 0;
   std::uint64_t memory_bytes = 0;  // image, ray trees, linetrees
   std::uint64_t linetree_bytes = 0;  // linetrees, their interpolants, the shared samples and ray trees
   ray_tree_store trees;

@@ -1,6 +1,7 @@
 #include "tiles.h"
 
 #include <algorithm>
+#include <numeric>
 
 namespace epsray {
 
@@ -16,6 +17,14 @@ std::vector<tile> make_tiles(int height, int rows_per_tile) {
   std::vector<tile> out;
   rows_per_tile = std::max(1, rows_per_tile);
   for (int y = 0; y < height; y += rows_per_tile) out.push_back({y, std::min(height, y + rows_per_tile)});
+  return out;
+}
+
+std::vector<std::uint32_t> tile_history::order(size_t tiles, tile_order how) const {
+  std::vector<std::uint32_t> out(tiles);
+  std::iota(out.begin(), out.end(), 0u);
+  if (how == tile_order::costly_first && ticks.size() == tiles)
+    std::stable_sort(out.begin(), out.end(), [&](std::uint32_t a, std::uint32_t b) { return ticks[a] > ticks[b]; });
   return out;
 }
 

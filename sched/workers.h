@@ -8,6 +8,7 @@
 #include <atomic>
 #include <memory>
 
+#include "tiles.h"
 #include "topology.h"
 
 namespace epsray {
@@ -26,6 +27,8 @@ class workers {
   }
   // Starts every worker thread now (oneTBB starts them on first use, ~5-10 ms).
   void warm_up();
+  // Last frame's tile costs, for the next frame's order (tile_queue.h).
+  tile_history& history() { return history_; }
 
  private:
   int threads_;
@@ -34,6 +37,7 @@ class workers {
   struct pin_observer;
   std::unique_ptr<pin_observer> pin_;
   std::atomic<int> pinned_{0};
+  tile_history history_;
 };
 
 int hardware_threads();

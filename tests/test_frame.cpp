@@ -3,6 +3,7 @@
 #include <stb/stb_image.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -205,6 +206,34 @@ TEST(Tiles, CoverEveryRowOnce) {
       int r = default_tile_rows(height, threads);
       EXPECT_GE(r, 1);
       EXPECT_LE(r, 8);
+    }
+  }
+}
+
+TEST(TileHistory, OrdersDearestFirstAndForgetsAnotherTiling) {
+  tile_history h;
+  EXPECT_EQ(h.order(4, tile_order::costly_first), (std::vector<std::uint32_t>{0, 1, 2, 3})) << "no history: top to bottom";
+  h.ticks = {5, 9, 1, 9};
+  EXPECT_EQ(h.order(4, tile_order::costly_first), (std::vector<std::uint32_t>{1, 3, 0, 2})) << "ties keep their rows' order";
+  EXPECT_EQ(h.order(4, tile_order::scan), (std::vector<std::uint32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(h.order(3, tile_order::costly_first), (std::vector<std::uint32_t>{0, 1, 2})) << "another tiling";
+}
+
+TEST(TileQueue, RunsEveryTileOnceOnMoreThreadsThanTiles) {
+  for (int threads : {1, 3, 16}) {
+    for (size_t tiles : {size_t(0), size_t(1), size_t(7), size_t(500)}) {
+      SCOPED_TRACE(testing::Message() << threads << " threads, " << tiles << " tiles");
+      workers pool(threads);
+      std::vector<std::atomic<int>> runs(tiles);
+      std::vector<std::uint32_t> order(tiles);
+      for (size_t i = 0; i < tiles; ++i) order[i] = std::uint32_t(tiles - 1 - i);  // bottom to top
+      const phase_times t = run_tiles(pool, order, [&](size_t i) { runs[i].fetch_add(1); });
+      for (size_t i = 0; i < tiles; ++i) EXPECT_EQ(runs[i].load(), 1) << "tile " << i;
+      // Each thread's waits lie within the phase.
+      EXPECT_GE(t.wall_ms, 0);
+      EXPECT_GE(t.join_ms, 0);
+      EXPECT_GE(t.tail_ms, 0);
+      EXPECT_LE(t.join_ms + t.tail_ms, t.wall_ms * 1.0001 + 1e-9);
     }
   }
 }

@@ -61,7 +61,7 @@ struct walk_result {
 
 walk_result walk_full(const world& w, const std::vector<camera_view>& views, int width, int height, int threads,
                       float eps, bool verify, size_t memory_budget = 0, std::unique_ptr<face_raster> raster = nullptr,
-                      bool pipeline = false, int span_segment = -1) {
+                      bool pipeline = false, int span_segment = -1, tile_order order = tile_order::costly_first) {
   linetree_set trees(w.prim_bounds, memory_budget);
   reprojection_state reproj;
   reproj.raster = std::move(raster);
@@ -71,6 +71,7 @@ walk_result walk_full(const world& w, const std::vector<camera_view>& views, int
   p.interp.eps = eps;
   p.trees = &trees;
   p.reproj = &reproj;
+  p.order = order;
   if (span_segment >= 0) p.interp.span_segment = span_segment;
   walk_result out;
   for (size_t k = 0; k < views.size(); ++k) {
@@ -136,6 +137,12 @@ TEST(Reprojection, FullModeImagesIgnoreThreadCount) {
     EXPECT_EQ(a.fast, b.fast) << threads << " threads";
     EXPECT_EQ(a.span, b.span) << threads << " threads";
   }
+  // Nor on the order the tiles are handed out in (tile_queue.h): top to bottom.
+  walk_result scan = walk_full(w, views, 96, 72, 8, 0.05f, false, 0, nullptr, false, -1, tile_order::scan);
+  for (size_t k = 0; k < a.frames.size(); ++k)
+    EXPECT_TRUE(test::same_pixels(a.frames[k], scan.frames[k])) << "scan order, frame " << k;
+  EXPECT_EQ(a.fast, scan.fast);
+  EXPECT_EQ(a.span, scan.span);
   EXPECT_GT(a.fast, 0u);
 }
 

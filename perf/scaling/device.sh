@@ -1,24 +1,43 @@
 #!/bin/bash
 # Thread scaling on a lent many-core machine (issue 5), in two steps:
-#   perf/scaling/device.sh pack   here: copies build/epsray, its shared libraries (glibc
-#                                 too: the other machine's may differ) and two SPD scenes
-#                                 into .dev/ (add /.dev/ to .git/info/exclude; carry it)
-#   perf/scaling/device.sh run    there: the scaling sweep, N one-thread walks at once
-#                                 against one alone, thread time on 1 and 16 threads, the
-#                                 art-room walk at all threads, and the reprojection
-#                                 methods at N and N-1 threads; results under $OUT
+#   perf/scaling/device.sh pack [OLD]  here: copies build/epsray (and OLD, another build to
+#                                 compare with, as .dev/epsray0), their shared libraries
+#                                 (glibc too: the other machine's may differ) and two SPD
+#                                 scenes into .dev/ (add /.dev/ to .git/info/exclude; carry it)
+#   perf/scaling/device.sh run    there: where a frame's time goes at all threads
+#                                 (sched_ab.py: tile orders, OLD, huge pages, pinning), then the
+#                                 scaling sweep; results under $OUT
+#   perf/scaling/device.sh extras there: N one-thread walks at once against one alone,
+#                                 thread time on 1 and N threads, the art-room walk at all
+#                                 threads, and the reprojection methods at N and N-1 threads
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 case "${1:-}" in
 pack)
   rm -rf .dev && mkdir -p .dev/lib .dev/spd
   cp build/epsray .dev/epsray.bin
+  if [ -n "${2:-}" ]; then
+    cp "$2" .dev/epsray0.bin
+    printf '%s\n' '#!/bin/sh' 'd=$(cd "$(dirname "$0")" && pwd)' \
+      'exec "$d/lib/ld-linux-x86-64.so.2" --library-path "$d/lib" "$d/epsray0.bin" "$@"' > .dev/epsray0
+    chmod +x .dev/epsray0
+  fi
   for l in $(ldd build/epsray | awk '/=>/{print $3}') /lib64/ld-linux-x86-64.so.2; do cp -L "$l" .dev/lib/; done
   cp ../shared/scenes/spd/balls-s3.nff ../shared/scenes/spd/teapot-s6.nff .dev/spd/
   printf '%s\n' '#!/bin/sh' 'd=$(cd "$(dirname "$0")" && pwd)' \
     'exec "$d/lib/ld-linux-x86-64.so.2" --library-path "$d/lib" "$d/epsray.bin" "$@"' > .dev/epsray
   chmod +x .dev/epsray && .dev/epsray info ;;
 run)
+  export PYTHONUNBUFFERED=1
+  E=.dev/epsray n=$(nproc)
+  { $E info; grep -H . /sys/kernel/mm/transparent_hugepage/{enabled,defrag}; } | tee "$OUT/info.log"
+  v=(--variant scan=$E,--tile-order,scan --variant cost=$E --variant cost+huge=$E,env:GLIBC_TUNABLES=glibc.malloc.hugetlb=1
+     --variant cost+pin=$E,--pin)
+  [ -x .dev/epsray0 ] && v=(--variant old=.dev/epsray0 "${v[@]}")
+  python3 perf/scaling/sched_ab.py --threads "$n" --reps 3 "${v[@]}" --out "$OUT/sched$n.md" | tail -12
+  python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$n --frames 16 --reps 2 --size 640x480 \
+    --out "$OUT/scaling.md" scenes/artroom.nff .dev/spd/balls-s3.nff .dev/spd/teapot-s6.nff | tee "$OUT/scaling.log" ;;
+extras)
   export PYTHONUNBUFFERED=1
   E=.dev/epsray n=$(nproc)
   $E info | tee "$OUT/concurrent.log"
@@ -44,8 +63,6 @@ print('$mode $t threads: frame ms %.1f, thread time ms %.1f' % (st.median(f['ms'
   # (Exact only: OSMesa is loaded at run time and its libLLVM is too large to carry.)
   for t in "$n" $((n - 1)); do
     python3 perf/reproject/bench.py --exe $E --threads "$t" --reps 3 --methods exact --out "$OUT/reproject$t.md" | tail -5
-  done
-  python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$n --frames 16 --reps 2 --size 640x480 \
-    --out "$OUT/scaling.md" scenes/artroom.nff .dev/spd/balls-s3.nff .dev/spd/teapot-s6.nff ;;
-*) echo "usage: perf/scaling/device.sh pack|run" >&2; exit 2 ;;
+  done ;;
+*) echo "usage: perf/scaling/device.sh pack [OLD]|run|extras" >&2; exit 2 ;;
 esac
