@@ -197,10 +197,10 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
         if (!known.count(c.node)) cells.push_back(c);
       trusted = std::move(ahead.trusted);
       std::copy(ahead.owner.begin(), ahead.owner.end(), owner.begin());
-      reproject_cells(&pool, w, cam, tiles, cells, first, nullptr, trusted, owner.data());
+      reproject_cells(&pool, w, cam, cells, first, nullptr, trusted, owner.data());
       rs.cells = std::move(cells);
     } else {
-      reproject_cells(&pool, w, cam, tiles, last, 0, rs.raster.get(), trusted, owner.data());
+      reproject_cells(&pool, w, cam, last, 0, rs.raster.get(), trusted, owner.data());
     }
     ahead.ready = false;
     if (p.next_camera) start_ahead(ahead, w, *p.next_camera, last, rs.raster.get());  // copies the list
@@ -309,6 +309,9 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       for (const cell_ref& c : ahead.cells) mark_used(*c.node, p.trees->frame());  // the next frame's: kept
     }
     std::vector<cell_ref> next;
+    size_t used = 0;
+    for (const tile_totals& t : totals) used += t.cells.size();
+    next.reserve(used);
     for (const tile_totals& t : totals) next.insert(next.end(), t.cells.begin(), t.cells.end());
     pool.run([&] { settle_cells(next); });
     for (const cell_ref& c : next) mark_used(*c.node, p.trees->frame());  // carried: never evicted now

@@ -205,7 +205,7 @@ TEST(Tiles, CoverEveryRowOnce) {
     for (int threads : {1, 2, 16}) {
       int r = default_tile_rows(height, threads);
       EXPECT_GE(r, 1);
-      EXPECT_LE(r, 8);
+      EXPECT_LE(r, 16);
     }
   }
 }

@@ -5,7 +5,7 @@
 #                                 (glibc too: the other machine's may differ) and two SPD
 #                                 scenes into .dev/ (add /.dev/ to .git/info/exclude; carry it)
 #   perf/scaling/device.sh run    there: where a frame's time goes at all threads
-#                                 (sched_ab.py: tile orders, OLD, huge pages, pinning), then the
+#                                 (sched_ab.py: rows per tile, tile orders, OLD), then the
 #                                 scaling sweep; results under $OUT
 #   perf/scaling/device.sh extras there: N one-thread walks at once against one alone,
 #                                 thread time on 1 and N threads, the art-room walk at all
@@ -31,8 +31,9 @@ run)
   export PYTHONUNBUFFERED=1
   E=.dev/epsray n=$(nproc)
   { $E info; grep -H . /sys/kernel/mm/transparent_hugepage/{enabled,defrag}; } | tee "$OUT/info.log"
-  v=(--variant scan=$E,--tile-order,scan --variant cost=$E --variant cost+huge=$E,env:GLIBC_TUNABLES=glibc.malloc.hugetlb=1
-     --variant cost+pin=$E,--pin)
+  v=(--variant rows1=$E,--tile-rows,1 --variant rows2=$E,--tile-rows,2 --variant default=$E
+     --variant rows4=$E,--tile-rows,4 --variant rows6=$E,--tile-rows,6 --variant rows8=$E,--tile-rows,8
+     --variant scan=$E,--tile-order,scan)
   [ -x .dev/epsray0 ] && v=(--variant old=.dev/epsray0 "${v[@]}")
   python3 perf/scaling/sched_ab.py --threads "$n" --reps 3 "${v[@]}" --out "$OUT/sched$n.md" | tail -12
   python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$n --frames 16 --reps 2 --size 640x480 \
