@@ -338,6 +338,7 @@ rflag("failed_split_pixels_nan", ["--failed-split-pixels", "nan"], "--failed-spl
 rflag("min_prim_pixels_negative", ["--min-prim-pixels", "-5"], "--min-prim-pixels")
 rflag("reproject_unknown", ["--reproject", "raster"], "--reproject")
 rflag("span_negative", ["--span", "-1"], "--span")
+rflag("tile_order_unknown", ["--tile-order", "random"], "--tile-order")
 rflag("unknown_option", ["--bogus"], "--bogus")
 rflag("frame_without_path", ["--frame", "0"], "--frame")
 rflag("frame_out_of_range", ["--path", "two.path", "--frame", "2"], "--frame")
