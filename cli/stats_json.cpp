@@ -41,6 +41,7 @@ void write_stats_json(const run_record& r, const std::string& path) {
                            {"span_pixels", f.pixels.span},
                            {"span_ms", f.path_ms.span},
                            {"deferred_ms", f.path_ms.deferred},
+                           {"build_ms", f.path_ms.build},
                            {"memory_bytes", f.memory_bytes},
                            {"linetree_bytes", f.linetree_bytes}};
     fj["sched"] = {{"shade_ms", f.shade.wall_ms}, {"join_ms", f.shade.join_ms}, {"tail_ms", f.shade.tail_ms},

@@ -51,6 +51,7 @@ struct alignas(64) tile_totals {
   std::uint64_t ticks_fast = 0, ticks_interp = 0, ticks_base = 0;
   std::uint64_t ticks_deferred = 0;  // within fast and interp
   std::uint64_t ticks_span = 0;      // within fast
+  std::uint64_t ticks_build = 0;     // within interp and base
   std::vector<cell_ref> cells;  // full: the cells this tile's pixels used, for the next frame
 };
 
@@ -141,6 +142,7 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
     }
   }
   tot.rays = st.counts;
+  tot.ticks_build = st.build_ticks;
 }
 
 }  // namespace
@@ -300,6 +302,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     out.path_ms.interp += double(t.ticks_interp) / tick_ms, out.path_ms.base += double(t.ticks_base) / tick_ms;
     out.path_ms.deferred += double(t.ticks_deferred) / tick_ms;
     out.path_ms.span += double(t.ticks_span) / tick_ms;
+    out.path_ms.build += double(t.ticks_build) / tick_ms;
   }
   if (p.mode == render_mode::full) {
     reprojection_ahead& ahead = p.reproj->ahead;

@@ -44,6 +44,7 @@ struct path_times {
   double fast = 0, interp = 0, base = 0;  // ms
   double deferred = 0;  // of fast + interp: the pixels that cast per-pixel rays (pixel_counts::deferred)
   double span = 0;      // of fast: the runs filled in screen space (pixel_counts::span)
+  double build = 0;     // of interp + base: building interpolants (paid by the pixel that first reaches a cell)
 };
 
 // What full mode carries from one frame to the next besides the linetrees: the cells that

@@ -124,6 +124,24 @@ TEST(Reprojection, ObjectPassedByTheCameraIsNotReprojectedBehindIt) {
   EXPECT_GT(r.fast, 160u * 120u);
 }
 
+TEST(FrameStats, BuildingTimeIsPartOfTheInterpAndBasePathsAndOnlyWhereCellsAreBuilt) {
+  world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/tests/shapes.nff"));
+  linetree_set trees(w.prim_bounds, 0);
+  workers pool(2);
+  frame_params p;
+  p.mode = render_mode::interp;
+  p.interp.eps = 0.05f;
+  p.trees = &trees;
+  const camera cam = make_camera(w.sc.view, 96, 72);
+  const frame_result cold = render_frame(pool, w, cam, p);  // builds the cells
+  EXPECT_GT(cold.path_ms.build, 0);
+  EXPECT_LE(cold.path_ms.build, cold.path_ms.interp + cold.path_ms.base);
+  const frame_result warm = render_frame(pool, w, cam, p);  // the same eye: every cell is built
+  EXPECT_EQ(warm.path_ms.build, 0);
+  frame_params b;
+  EXPECT_EQ(render_frame(pool, w, cam, b).path_ms.build, 0) << "the base tracer builds nothing";
+}
+
 TEST(Reprojection, FullModeImagesIgnoreThreadCount) {
   world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/tests/shapes.nff"));
   std::vector<camera_view> views;

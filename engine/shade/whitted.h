@@ -23,6 +23,9 @@ constexpr int shadow_cache_lights = 8;
 
 struct trace_state {
   ray_counts counts;
+  // Time-stamp counter ticks spent building interpolants (engine/interp), which the
+  // pixel that first reaches a cell pays: --stats build_ms.
+  std::uint64_t build_ticks = 0;
   ray_tree* tree = nullptr;
   // Per light, the primitive that last blocked a shadow ray: neighbouring points are mostly
   // shadowed by the same one, so it is tested before a BVH walk. Only whether something

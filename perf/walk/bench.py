@@ -65,8 +65,8 @@ def main():
     lines.append("| mode | median frame ms | base / mode | fast | interp | base-traced | with per-pixel rays | "
                  "cost fast | cost interp | cost base | cost of fast + interp, nothing deferred | "
                  "with per-pixel rays | span-filled | cost span-filled | reprojection ms | "
-                 "linetree MB (first / middle / last) | linetree MB, largest of frames 0-29 |")
-    lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|")
+                 "linetree MB (first / middle / last) | linetree MB, largest of frames 0-29 | building cells, share of thread time |")
+    lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|")
     for m in modes:
         fs = frames(m)
         px = {k: sum(f["pixels"][k] for f in fs) for k in ("fast", "interp", "base")}
@@ -84,12 +84,14 @@ def main():
         # Fast pixels filled in screen space along spans (span_fill.h), and their cost.
         span = sum(f.get("span_pixels", 0) for f in fs)
         c_span = sum(f.get("span_ms", 0) for f in fs) / span / base_px_ms if span else float("nan")
+        # Building interpolants, paid by the pixels that first reach the cells (interp and base paths).
+        build = sum(f.get("build_ms", 0) for f in fs) / (sum(tm.values()) or 1)
         lines.append("| %s | %.1f | %.2f | %.1f%% | %.1f%% | %.1f%% | %.1f%% | %.3f | %.2f | %.2f | %.2f | %.2f | %.1f%% | "
-                     "%.3f | %.1f | %.1f / %.1f / %.1f | %.1f |" %
+                     "%.3f | %.1f | %.1f / %.1f / %.1f | %.1f | %.1f%% |" %
                      (m, med[m], med["base"] / med[m], 100 * px["fast"] / allpx, 100 * px["interp"] / allpx,
                       100 * px["base"] / allpx, 100 * deferred / allpx, cost["fast"], cost["interp"], cost["base"],
                       c_rest, c_def, 100 * span / allpx, c_span, rep, mem[0], mem[len(mem) // 2], mem[-1],
-                      max(mem[:30])))
+                      max(mem[:30]), 100 * build))
     worst = max(f["verify"]["max_rel_err"] for f in checked["frames"])
     over = sum(f["verify"]["violations"] for f in checked["frames"])
     lines.append("")
