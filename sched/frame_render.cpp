@@ -285,7 +285,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
           shade_tile_interp(f, p.mode == render_mode::full ? &rp : nullptr,
                             p.mode == render_mode::lightfield ? p.lf_depth : -1, tiles[i], out.img,
                             p.reasons ? &out.reasons : nullptr, totals[i]);
-          settle_cells(totals[i].cells);  // here, in parallel: the serial merge below then sorts far fewer
+          keep_first_uses(totals[i].cells);  // here, in parallel: the serial merge below then sees far fewer
           break;
       }
       if (p.reasons && (p.mode == render_mode::base || p.mode == render_mode::upsample || p.mode == render_mode::reuse))
@@ -316,7 +316,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     for (const tile_totals& t : totals) used += t.cells.size();
     next.reserve(used);
     for (const tile_totals& t : totals) next.insert(next.end(), t.cells.begin(), t.cells.end());
-    pool.run([&] { settle_cells(next); });
+    keep_first_uses(next);
     for (const cell_ref& c : next) mark_used(*c.node, p.trees->frame());  // carried: never evicted now
     p.reproj->cells = std::move(next);
   }

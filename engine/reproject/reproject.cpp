@@ -1,11 +1,8 @@
 #include "reproject/reproject.h"
 
-#include <oneapi/tbb/parallel_sort.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <tuple>
 
 #include "predicate/shaft_shape.h"
 
@@ -175,17 +172,26 @@ bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell
   return interpolate_line(w, c.prim, *c.node, *c.ip, x4, eps, r, t, st, L);
 }
 
-void settle_cells(std::vector<cell_ref>& cells) {
-  auto key = [](const cell_ref& c) {
-    const lt_node& n = *c.node;
-    return std::make_tuple(c.prim, c.lt->fp.index, n.lo[0], n.lo[1], n.lo[2], n.lo[3], n.hi[0], n.hi[1], n.hi[2],
-                           n.hi[3]);
-  };
-  // The keys are unique per node, so the order (and the image) is the same however the sort
-  // is split among threads.
-  tbb::parallel_sort(cells.begin(), cells.end(), [&](const cell_ref& a, const cell_ref& b) { return key(a) < key(b); });
-  cells.erase(std::unique(cells.begin(), cells.end(), [](const cell_ref& a, const cell_ref& b) { return a.node == b.node; }),
-              cells.end());
+void keep_first_uses(std::vector<cell_ref>& cells) {
+  // Open addressing on the node pointers, at most half full: no allocation per entry and
+  // no read of the (mostly cold) nodes themselves.
+  size_t size = 16;
+  while (size < 2 * cells.size()) size *= 2;
+  std::vector<const lt_node*> seen(size, nullptr);
+  size_t kept = 0;
+  for (const cell_ref& c : cells) {
+    size_t h = (reinterpret_cast<std::uintptr_t>(c.node) >> 4) * 0x9E3779B97F4A7C15ull;
+    for (h >>= 20;; ++h) {
+      const lt_node*& slot = seen[h & (size - 1)];
+      if (slot == c.node) break;  // listed already
+      if (!slot) {
+        slot = c.node;
+        cells[kept++] = c;
+        break;
+      }
+    }
+  }
+  cells.resize(kept);
 }
 
 }  // namespace epsray

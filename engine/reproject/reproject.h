@@ -51,8 +51,10 @@ void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std
 bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell_trust& trust, int x, int y,
                 float eps, trace_state& st, glm::vec3& L);
 
-// The cells a frame used, gathered from its tiles, in a deterministic order (primitive,
-// facepair, ranges) without repeats: the next frame's list.
-void settle_cells(std::vector<cell_ref>& cells);
+// Keeps each cell's first occurrence, in order. A frame's tiles list the cells their pixels
+// used in raster order, so their lists, deduplicated each and then together in tile order,
+// give the cells in the raster order of their first use: the next frame's list, the same
+// for any tiling and schedule. (Sorting by the cells' ranges instead cost 3% of a walk.)
+void keep_first_uses(std::vector<cell_ref>& cells);
 
 }  // namespace epsray
