@@ -658,9 +658,15 @@ struct evaluator {
     // The eye ray's reflected and transmitted subtrees may be left to per-pixel rays (where
     // allowed): those the corners disagree on are, and so is any this cell cannot bound.
     const bool root = from < 0;
-    auto child_or_defer = [&](std::uint32_t bit, auto&& bound_child) {
+    // weight: the child's radiance enters this one times it (ks or t), and so does the
+    // noise bounded below it.
+    auto child_or_defer = [&](std::uint32_t bit, double weight, auto&& bound_child) {
       if (root && (deferred_rays & bit)) return true;
-      if (bound_child()) return true;
+      const double above_weight = path_weight;
+      path_weight *= weight;
+      const bool bounded = bound_child();
+      path_weight = above_weight;
+      if (bounded) return true;
       if (!(root && allow_defer)) return false;
       fail = cell_reason::valid, deferred_rays |= bit;
       return true;
@@ -668,32 +674,21 @@ struct evaluator {
     // Reflected and refracted directions of unit vectors are unit (whitted.md 4); normalizing
     // intervals would only lose that.
     if (n.reflect >= 0) {
-      const bool ok = child_or_defer(deferred_reflect, [&] {
+      const bool ok = child_or_defer(deferred_reflect, double(m.ks), [&] {
         jv rd = d - nf * (2.0 * dot(d, nf));
         djet Lr[3];
-        const double weight = path_weight;
-        path_weight *= double(m.ks);
-        const bool child_ok = radiance(n.reflect, above, rd, depth + 1, prim, leave_ok, Lr, nullptr);
-        path_weight = weight;
-        if (!child_ok) return false;
+        if (!radiance(n.reflect, above, rd, depth + 1, prim, leave_ok, Lr, nullptr)) return false;
         for (int c = 0; c < 3; ++c) acc[c] = acc[c] + Lr[c] * double(m.ks);
         return true;
       });
       if (!ok) return false;
     }
     if (n.refract >= 0) {
-      const bool ok = child_or_defer(deferred_refract, [&] {
+      const bool ok = child_or_defer(deferred_refract, double(m.t), [&] {
         double eta = entering ? 1.0 / double(m.ior) : double(m.ior);
         djet ci = dot(view, nf);
         djet k = 1.0 - eta * eta * (1.0 - sqr(ci));
         djet Lt[3];
-        const double weight = path_weight;
-        path_weight *= double(m.t);
-        struct restore {  // every return below leaves the weight as it found it
-          double& w;
-          double v;
-          ~restore() { w = v; }
-        } keep{path_weight, weight};
         if (n.tir) {
           if (!(hi(k.v) < 0)) return reject(cell_reason::discontinuity);
           jv rd = d - nf * (2.0 * dot(d, nf));
