@@ -256,42 +256,42 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   // The tiles, dearest first by last frame's costs (tile_queue.h).
   std::vector<std::uint64_t> tile_ticks(tiles.size());
   out.shade = run_tiles(pool, pool.history().order(tiles.size(), p.order), [&](size_t i) {
-      const std::uint64_t c0 = cycle_now();
-      trace_state st;
-      switch (p.mode) {
-        case render_mode::base:
-          shade_rows_base(w, cam, tiles[i].y0, tiles[i].y1, out.img, st, p.keep_ray_trees ? &trees[i] : nullptr);
-          totals[i].rays = st.counts;
-          totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
-          totals[i].ticks_base = cycle_now() - c0;
-          break;
-        case render_mode::upsample:  // the traced pixels are counted with the reduced frame's tiles
-          upsample_rows(low, cam, std::max(1, p.upsample), tiles[i].y0, tiles[i].y1, out.img);
-          totals[i].pixels.interp = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
-          totals[i].ticks_interp = cycle_now() - c0;
-          break;
-        case render_mode::reuse: {
-          const std::uint64_t reused = shade_rows_reuse(w, cam, reuse->last, nearest.empty() ? nullptr : nearest.data(),
-                                                        tiles[i].y0, tiles[i].y1, out.img, reuse->next, st);
-          totals[i].rays = st.counts;
-          totals[i].pixels.fast = reused;
-          totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width) - reused;
-          totals[i].ticks_base = cycle_now() - c0;  // per pixel, not per path: one band of both
-          break;
-        }
-        case render_mode::interp:
-        case render_mode::full:
-        case render_mode::lightfield:
-          shade_tile_interp(f, p.mode == render_mode::full ? &rp : nullptr,
-                            p.mode == render_mode::lightfield ? p.lf_depth : -1, tiles[i], out.img,
-                            p.reasons ? &out.reasons : nullptr, totals[i]);
-          keep_first_uses(totals[i].cells);  // here, in parallel: the serial merge below then sees far fewer
-          break;
+    const std::uint64_t c0 = cycle_now();
+    trace_state st;
+    switch (p.mode) {
+      case render_mode::base:
+        shade_rows_base(w, cam, tiles[i].y0, tiles[i].y1, out.img, st, p.keep_ray_trees ? &trees[i] : nullptr);
+        totals[i].rays = st.counts;
+        totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
+        totals[i].ticks_base = cycle_now() - c0;
+        break;
+      case render_mode::upsample:  // the traced pixels are counted with the reduced frame's tiles
+        upsample_rows(low, cam, std::max(1, p.upsample), tiles[i].y0, tiles[i].y1, out.img);
+        totals[i].pixels.interp = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
+        totals[i].ticks_interp = cycle_now() - c0;
+        break;
+      case render_mode::reuse: {
+        const std::uint64_t reused = shade_rows_reuse(w, cam, reuse->last, nearest.empty() ? nullptr : nearest.data(),
+                                                      tiles[i].y0, tiles[i].y1, out.img, reuse->next, st);
+        totals[i].rays = st.counts;
+        totals[i].pixels.fast = reused;
+        totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width) - reused;
+        totals[i].ticks_base = cycle_now() - c0;  // per pixel, not per path: one band of both
+        break;
       }
-      if (p.reasons && (p.mode == render_mode::base || p.mode == render_mode::upsample || p.mode == render_mode::reuse))
-        for (int y = tiles[i].y0; y < tiles[i].y1; ++y)
-          for (int x = 0; x < cam.width; ++x) out.reasons.at(x, y) = reason_colour(pixel_reason::traced);
-      tile_ticks[i] = cycle_now() - c0;
+      case render_mode::interp:
+      case render_mode::full:
+      case render_mode::lightfield:
+        shade_tile_interp(f, p.mode == render_mode::full ? &rp : nullptr,
+                          p.mode == render_mode::lightfield ? p.lf_depth : -1, tiles[i], out.img,
+                          p.reasons ? &out.reasons : nullptr, totals[i]);
+        keep_first_uses(totals[i].cells);  // here, in parallel: the serial merge below then sees far fewer
+        break;
+    }
+    if (p.reasons && (p.mode == render_mode::base || p.mode == render_mode::upsample || p.mode == render_mode::reuse))
+      for (int y = tiles[i].y0; y < tiles[i].y1; ++y)
+        for (int x = 0; x < cam.width; ++x) out.reasons.at(x, y) = reason_colour(pixel_reason::traced);
+    tile_ticks[i] = cycle_now() - c0;
   });
   pool.history().ticks = std::move(tile_ticks);
   const auto a0 = std::chrono::steady_clock::now();
