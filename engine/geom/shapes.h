@@ -211,6 +211,28 @@ inline bool hit_box(const box_geom& g, const ray& r, float tmax, float& t) {
   return false;
 }
 
+// The outward normal of the face a ray enters a box by (or, from inside, leaves it by),
+// decided by the slabs in double: in float, a hit within rounding of an edge (ulps of the
+// eye's distance) took either face's normal, so the reference's radiance there was noise
+// that a cell proven on one face could not follow (whitted-choices.md).
+inline vec3 box_face_normal(const box_geom& g, const ray& r) {
+  const glm::dvec3 q = glm::dvec3(r.o) - glm::dvec3(g.c), d = glm::dvec3(r.d);
+  const vec3* ax[3] = {&g.ax0, &g.ax1, &g.ax2};
+  double t_in = -INFINITY, t_out = INFINITY;
+  int k_in = 0, k_out = 0;
+  for (int i = 0; i < 3; ++i) {
+    const glm::dvec3 a = glm::dvec3(*ax[i]);
+    const double o = glm::dot(q, a), di = glm::dot(d, a);
+    if (di == 0) continue;  // parallel to the slab: neither enters nor leaves by it
+    const double lo = (-double(g.half[i]) - o) / di, hi = (double(g.half[i]) - o) / di;
+    const double enter = std::min(lo, hi), leave = std::max(lo, hi);
+    if (enter > t_in) t_in = enter, k_in = di > 0 ? -(i + 1) : i + 1;
+    if (leave < t_out) t_out = leave, k_out = di > 0 ? i + 1 : -(i + 1);
+  }
+  const int k = t_in > 0 ? k_in : k_out;  // +-(axis + 1): the face's outward side
+  return k > 0 ? *ax[k - 1] : -*ax[-k - 1];
+}
+
 inline bool hit_shape(const shape& s, const polygon_data& pd, const ray& r, float tmax, float& t) {
   switch (s.kind) {
     case shape_kind::sphere: return hit_sphere(s.sphere, r, tmax, t);

@@ -333,32 +333,37 @@ struct evaluator {
       }
       return false;
     };
+    // Every line meets face k at a point inside the face's rectangle, kept off its edges by
+    // the rounding margin of with_rounding_margin: the pixel's line is found in the cell
+    // by float coordinates, and across an edge the normal jumps (box_face_normal).
+    const double margin = 1e-5 * (1 + std::max({std::fabs(g.c.x), std::fabs(g.c.y), std::fabs(g.c.z)}) +
+                                  std::max({g.half.x, g.half.y, g.half.z}));
+    auto within_face = [&](int k, const djet& t) {
+      const jv pk = q + d * t;
+      for (int j = 0; j < 3; ++j) {
+        if (j == k) continue;
+        const djet u = dot(pk, dv(*ax[j]));
+        if (!(hi(u.v) < double(g.half[j]) - margin && lo(u.v) > -double(g.half[j]) + margin)) return false;
+      }
+      return true;
+    };
     // From outside: every line enters through face k when its point there lies inside the
     // face's rectangle. Testing the point's own face coordinates keeps the correlation
     // between the slabs' entry and exit times that comparing their separate ranges loses
     // (which failed most cells of a box seen at a slant).
     int k;
-    for (k = 0; k < 3; ++k) {
-      if (!positive(nearv[k])) continue;
-      const jv pk = q + d * nearv[k];
-      bool inside = true;
-      for (int j = 0; j < 3 && inside; ++j) {
-        if (j == k) continue;
-        const djet u = dot(pk, dv(*ax[j]));
-        inside = hi(u.v) < double(g.half[j]) && lo(u.v) > -double(g.half[j]);
-      }
-      if (inside) break;
-    }
+    for (k = 0; k < 3; ++k)
+      if (positive(nearv[k]) && within_face(k, nearv[k])) break;
     double max_near_hi = std::max({hi(nearv[0].v), hi(nearv[1].v), hi(nearv[2].v)});
     double min_far_lo = std::min({lo(farv[0].v), lo(farv[1].v), lo(farv[2].v)});
     if (k == 3) {  // else the slabs' ranges: a unique entry face, or the eye inside the box
       if (!(max_near_hi < min_far_lo)) return reject(cell_reason::missed);
-      if (!unique_max(nearv, k) || !positive(nearv[k])) k = 3;
+      if (!unique_max(nearv, k) || !positive(nearv[k]) || !within_face(k, nearv[k])) k = 3;
     }
     if (k < 3) {
       s.t = nearv[k], s.from_outside = true;
       s.ng = constant(dv(*ax[k]) * (lo(dl[k].v) > 0 ? -1.0 : 1.0));
-    } else if (max_near_hi < 0 && unique_min(farv, k) && positive(farv[k])) {
+    } else if (max_near_hi < 0 && unique_min(farv, k) && positive(farv[k]) && within_face(k, farv[k])) {
       s.t = farv[k], s.from_outside = false;
       s.ng = constant(dv(*ax[k]) * (lo(dl[k].v) > 0 ? 1.0 : -1.0));
     } else {

@@ -63,18 +63,7 @@ surface surface_at(const world& w, int prim, const ray& r, float t) {
       if (pr.r0 < 0 || pr.r1 < 0) out.ng = -out.ng;
       break;
     }
-    case shape_kind::box: {
-      vec3 q = out.p - sh.box.c;
-      const vec3* ax[3] = {&sh.box.ax0, &sh.box.ax1, &sh.box.ax2};
-      int best = 0;
-      float best_v = -1, sign = 1;
-      for (int i = 0; i < 3; ++i) {
-        float l = glm::dot(q, *ax[i]) / sh.box.half[i];
-        if (std::fabs(l) > best_v) best_v = std::fabs(l), best = i, sign = l < 0 ? -1.0f : 1.0f;
-      }
-      out.ng = sign * *ax[best];
-      break;
-    }
+    case shape_kind::box: out.ng = box_face_normal(sh.box, r); break;
   }
   out.ng = glm::normalize(out.ng);
   out.ns = out.ng;
