@@ -279,13 +279,18 @@ struct evaluator {
     djet sq = sqrt(disc);
     djet ta = (-B - sq) / (2.0 * A), tb = (-B + sq) / (2.0 * A);
     if (hi(A.v) < 0) std::swap(ta, tb);  // ta is the nearer root
+    // A root counts only a rounding margin (with_rounding_margin's) inside or outside the
+    // end circles: a pixel whose float line lies a few ulps outside its cell may pass the
+    // rim there, and meet the same cone on its far side.
+    const double margin = 1e-5 * (1 + std::max({std::fabs(g.base.x), std::fabs(g.base.y), std::fabs(g.base.z)}) + h +
+                                  std::max(std::fabs(r0), std::fabs(r0 + k * h)));
     auto valid = [&](const djet& t) {
       djet z = qa + t * da;
-      return positive(t) && lo(z.v) > 0 && hi(z.v) < h;
+      return positive(t) && lo(z.v) > margin && hi(z.v) < h - margin;
     };
     auto invalid = [&](const djet& t) {
       djet z = qa + t * da;
-      return hi(t.v) <= 0 || hi(z.v) < 0 || lo(z.v) > h;
+      return hi(t.v) <= 0 || hi(z.v) < -margin || lo(z.v) > h + margin;
     };
     if (valid(ta)) s.t = ta;
     else if (invalid(ta) && valid(tb)) s.t = tb;
