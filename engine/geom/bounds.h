@@ -24,13 +24,17 @@ struct bounds {
   }
 };
 
-// b grown by ~100 ulps of the largest coordinate magnitude of b and of `also` (an eye, say):
-// points computed in floats from their own rays may lie that far outside a box proven for
-// them in exact arithmetic.
+// ~100 ulps of coordinates of magnitude up to mag: how far points computed in floats from
+// their own rays may lie from where exact arithmetic puts them.
+inline float rounding_margin(float mag) { return 1e-5f * (1 + mag); }
+
+// b grown by the rounding margin of the largest coordinate magnitude of b and of `also`
+// (an eye, say): points computed in floats from their own rays may lie that far outside a
+// box proven for them in exact arithmetic.
 inline bounds with_rounding_margin(bounds b, vec3 also = vec3(0)) {
   float mag = 0;
   for (int i = 0; i < 3; ++i) mag = std::max({mag, std::fabs(b.lo[i]), std::fabs(b.hi[i]), std::fabs(also[i])});
-  const vec3 m(1e-5f * (1 + mag));
+  const vec3 m(rounding_margin(mag));
   b.lo -= m, b.hi += m;
   return b;
 }

@@ -279,11 +279,11 @@ struct evaluator {
     djet sq = sqrt(disc);
     djet ta = (-B - sq) / (2.0 * A), tb = (-B + sq) / (2.0 * A);
     if (hi(A.v) < 0) std::swap(ta, tb);  // ta is the nearer root
-    // A root counts only a rounding margin (with_rounding_margin's) inside or outside the
-    // end circles: a pixel whose float line lies a few ulps outside its cell may pass the
-    // rim there, and meet the same cone on its far side.
-    const double margin = 1e-5 * (1 + std::max({std::fabs(g.base.x), std::fabs(g.base.y), std::fabs(g.base.z)}) + h +
-                                  std::max(std::fabs(r0), std::fabs(r0 + k * h)));
+    // A root counts only a rounding margin inside or outside the end circles: a pixel whose
+    // float line lies a few ulps outside its cell may pass the rim there, and meet the same
+    // cone on its far side.
+    const double margin = rounding_margin(std::max({std::fabs(g.base.x), std::fabs(g.base.y), std::fabs(g.base.z)}) +
+                                          g.h + std::max(std::fabs(g.r0), std::fabs(g.r0 + g.k * g.h)));
     auto valid = [&](const djet& t) {
       djet z = qa + t * da;
       return positive(t) && lo(z.v) > margin && hi(z.v) < h - margin;
@@ -338,11 +338,11 @@ struct evaluator {
       }
       return false;
     };
-    // Every line meets face k at a point inside the face's rectangle, kept off its edges by
-    // the rounding margin of with_rounding_margin: the pixel's line is found in the cell
-    // by float coordinates, and across an edge the normal jumps (box_face_normal).
-    const double margin = 1e-5 * (1 + std::max({std::fabs(g.c.x), std::fabs(g.c.y), std::fabs(g.c.z)}) +
-                                  std::max({g.half.x, g.half.y, g.half.z}));
+    // Every line meets face k at a point inside the face's rectangle, kept a rounding margin
+    // off its edges: the pixel's line is found in the cell by float coordinates, and across
+    // an edge the normal jumps (box_face_normal).
+    const double margin = rounding_margin(std::max({std::fabs(g.c.x), std::fabs(g.c.y), std::fabs(g.c.z)}) +
+                                          std::max({g.half.x, g.half.y, g.half.z}));
     auto within_face = [&](int k, const djet& t) {
       const jv pk = q + d * t;
       for (int j = 0; j < 3; ++j) {
