@@ -44,22 +44,6 @@ struct shape {
 };
 static_assert(sizeof(shape) <= 64, "one cache line per primitive");
 
-// Robust roots of a t^2 + b t + c = 0 (a may be small); returns the number of real roots.
-inline int solve_quadratic(float a, float b, float c, float& t0, float& t1) {
-  if (std::fabs(a) < 1e-12f) {
-    if (b == 0) return 0;
-    t0 = t1 = -c / b;
-    return 1;
-  }
-  float disc = b * b - 4 * a * c;
-  if (disc < 0) return 0;
-  float q = -0.5f * (b + std::copysign(std::sqrt(disc), b));
-  t0 = q / a;
-  t1 = q != 0 ? c / q : t0;
-  if (t0 > t1) std::swap(t0, t1);
-  return 2;
-}
-
 inline bool hit_sphere(const sphere_geom& s, const ray& r, float tmax, float& t) {
   // Distance from the centre to the line, computed directly: far more accurate than b^2 - c
   // for small spheres seen from afar (Ray Tracing Gems, ch. 7).
