@@ -124,7 +124,7 @@ TEST(Reprojection, ObjectPassedByTheCameraIsNotReprojectedBehindIt) {
   EXPECT_GT(r.fast, 160u * 120u);
 }
 
-// One interp frame of `scene` from the eye (from, at) at 240x180 with no floor on cell size:
+// One interp frame of `scene` from the eye (from, at), 240x180 unless given, with no floor on cell size:
 // its interpolated pixels, and its pixels over eps.
 struct floorless_frame {
   std::uint64_t interp = 0, over = 0;
