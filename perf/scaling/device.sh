@@ -7,6 +7,10 @@
 #   perf/scaling/device.sh run    there: where a frame's time goes at all threads
 #                                 (sched_ab.py: rows per tile, tile orders, OLD), then the
 #                                 scaling sweep; results under $OUT
+#   perf/scaling/device.sh pipeline there: full mode at N workers against --pipeline at N
+#                                 and N-1 workers (the reprojection thread makes N), then
+#                                 the machine's own ceiling (N one-thread base walks at
+#                                 once against one alone), then the scaling sweep, 3 reps
 #   perf/scaling/device.sh extras there: N one-thread walks at once against one alone,
 #                                 thread time on 1 and N threads, the art-room walk at all
 #                                 threads, and the reprojection methods at N and N-1 threads
@@ -38,6 +42,23 @@ run)
   python3 perf/scaling/sched_ab.py --threads "$n" --reps 3 "${v[@]}" --out "$OUT/sched$n.md" | tail -12
   python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$n --frames 16 --reps 2 --size 640x480 \
     --out "$OUT/scaling.md" scenes/artroom.nff .dev/spd/balls-s3.nff .dev/spd/teapot-s6.nff | tee "$OUT/scaling.log" ;;
+pipeline)
+  export PYTHONUNBUFFERED=1
+  E=.dev/epsray n=$(nproc) SIZE=${SIZE:-640x480}  # SIZE=160x120 for a dry run here
+  $E info | tee "$OUT/info.log"
+  python3 perf/scaling/sched_ab.py --threads "$n" --reps 3 --size "$SIZE" --modes full --variant default=$E \
+    --variant pipeline=$E,--pipeline --variant pipeline-1=$E,--pipeline,--threads,$((n - 1)) --out "$OUT/pipeline$n.md" | tail -5
+  python3 -c "import sys; sys.path.insert(0,'perf'); from common import orbit_path; orbit_path('scenes/artroom.nff', 16, '/tmp/orbit.path')"
+  for k in 1 "$n" 1; do
+    rm -f /tmp/c*.json
+    for i in $(seq "$k"); do $E walk scenes/artroom.nff --path /tmp/orbit.path --mode base --size "$SIZE" --threads 1 --quiet --stats /tmp/c$i.json & done; wait
+    python3 -c "
+import json,statistics as st,sys
+m=[st.median(f['ms'] for f in json.load(open(p))['frames'][1:]) for p in sys.argv[1:]]
+print('base, %d one-thread walks at once: median of per-process median frame ms %.1f (min %.1f max %.1f)' % (len(m), st.median(m), min(m), max(m)))" /tmp/c*.json
+  done | tee "$OUT/ceiling.log"
+  python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$n --frames 16 --reps 3 --size "$SIZE" \
+    --out "$OUT/scaling.md" scenes/artroom.nff .dev/spd/balls-s3.nff .dev/spd/teapot-s6.nff | tee "$OUT/scaling.log" ;;
 extras)
   export PYTHONUNBUFFERED=1
   E=.dev/epsray n=$(nproc)
@@ -65,5 +86,5 @@ print('$mode $t threads: frame ms %.1f, thread time ms %.1f' % (st.median(f['ms'
   for t in "$n" $((n - 1)); do
     python3 perf/reproject/bench.py --exe $E --threads "$t" --reps 3 --methods exact --out "$OUT/reproject$t.md" | tail -5
   done ;;
-*) echo "usage: perf/scaling/device.sh pack [OLD]|run|extras" >&2; exit 2 ;;
+*) echo "usage: perf/scaling/device.sh pack [OLD]|run|pipeline|extras" >&2; exit 2 ;;
 esac
