@@ -16,6 +16,18 @@
 #                                 threads, and the reprojection methods at N and N-1 threads
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+E=.dev/epsray SIZE=${SIZE:-640x480}  # SIZE=96x72 for a dry run here
+# K one-thread walks of the art-room orbit at once in MODE: the median of the processes'
+# median frame ms, and their spread (what the machine itself loses with all cores busy).
+at_once() {
+  python3 -c "import sys; sys.path.insert(0,'perf'); from common import orbit_path; orbit_path('scenes/artroom.nff', 16, '/tmp/orbit.path')"
+  rm -f /tmp/c*.json
+  for i in $(seq "$2"); do $E walk scenes/artroom.nff --path /tmp/orbit.path --mode "$1" --size "$SIZE" --threads 1 --quiet --stats /tmp/c$i.json & done; wait
+  python3 -c "
+import json,statistics as st,sys
+m=[st.median(f['ms'] for f in json.load(open(p))['frames'][1:]) for p in sys.argv[2:]]
+print('%s, %d one-thread walks at once: median of per-process median frame ms %.1f (min %.1f max %.1f)' % (sys.argv[1], len(m), st.median(m), min(m), max(m)))" "$1" /tmp/c*.json
+}
 case "${1:-}" in
 pack)
   rm -rf .dev && mkdir -p .dev/lib .dev/spd
@@ -33,48 +45,31 @@ pack)
   chmod +x .dev/epsray && .dev/epsray info ;;
 run)
   export PYTHONUNBUFFERED=1
-  E=.dev/epsray n=$(nproc)
+  n=$(nproc)
   { $E info; grep -H . /sys/kernel/mm/transparent_hugepage/{enabled,defrag}; } | tee "$OUT/info.log"
   v=(--variant rows1=$E,--tile-rows,1 --variant rows2=$E,--tile-rows,2 --variant default=$E
      --variant rows4=$E,--tile-rows,4 --variant rows6=$E,--tile-rows,6 --variant rows8=$E,--tile-rows,8
      --variant scan=$E,--tile-order,scan)
   [ -x .dev/epsray0 ] && v=(--variant old=.dev/epsray0 "${v[@]}")
   python3 perf/scaling/sched_ab.py --threads "$n" --reps 3 "${v[@]}" --out "$OUT/sched$n.md" | tail -12
-  python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$n --frames 16 --reps 2 --size 640x480 \
+  python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$n --frames 16 --reps 2 --size "$SIZE" \
     --out "$OUT/scaling.md" scenes/artroom.nff .dev/spd/balls-s3.nff .dev/spd/teapot-s6.nff | tee "$OUT/scaling.log" ;;
 pipeline)
   export PYTHONUNBUFFERED=1
-  E=.dev/epsray n=$(nproc) SIZE=${SIZE:-640x480}  # SIZE=160x120 for a dry run here
+  n=$(nproc)
   $E info | tee "$OUT/info.log"
   python3 perf/scaling/sched_ab.py --threads "$n" --reps 3 --size "$SIZE" --modes full --variant default=$E \
     --variant pipeline=$E,--pipeline --variant pipeline-1=$E,--pipeline,--threads,$((n - 1)) --out "$OUT/pipeline$n.md" | tail -5
-  python3 -c "import sys; sys.path.insert(0,'perf'); from common import orbit_path; orbit_path('scenes/artroom.nff', 16, '/tmp/orbit.path')"
-  for k in 1 "$n" 1; do
-    rm -f /tmp/c*.json
-    for i in $(seq "$k"); do $E walk scenes/artroom.nff --path /tmp/orbit.path --mode base --size "$SIZE" --threads 1 --quiet --stats /tmp/c$i.json & done; wait
-    python3 -c "
-import json,statistics as st,sys
-m=[st.median(f['ms'] for f in json.load(open(p))['frames'][1:]) for p in sys.argv[1:]]
-print('base, %d one-thread walks at once: median of per-process median frame ms %.1f (min %.1f max %.1f)' % (len(m), st.median(m), min(m), max(m)))" /tmp/c*.json
-  done | tee "$OUT/ceiling.log"
+  for k in 1 "$n" 1; do at_once base "$k"; done | tee "$OUT/ceiling.log"
   python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$n --frames 16 --reps 3 --size "$SIZE" \
     --out "$OUT/scaling.md" scenes/artroom.nff .dev/spd/balls-s3.nff .dev/spd/teapot-s6.nff | tee "$OUT/scaling.log" ;;
 extras)
   export PYTHONUNBUFFERED=1
-  E=.dev/epsray n=$(nproc)
+  n=$(nproc)
   $E info | tee "$OUT/concurrent.log"
-  python3 -c "import sys; sys.path.insert(0,'perf'); from common import orbit_path; orbit_path('scenes/artroom.nff', 16, '/tmp/orbit.path')"
-  med() { python3 -c "
-import json,statistics as st,sys
-m=[st.median(f['ms'] for f in json.load(open(p))['frames'][1:]) for p in sys.argv[1:]]
-print('%d at once: median of per-process median frame ms %.1f (min %.1f max %.1f)' % (len(m), st.median(m), min(m), max(m)))" "$@"; }
-  for mode in base full; do for k in 1 $((n / 2)) $n 1; do
-    rm -f /tmp/c*.json
-    for i in $(seq "$k"); do $E walk scenes/artroom.nff --path /tmp/orbit.path --mode $mode --size 640x480 --threads 1 --quiet --stats /tmp/c$i.json & done; wait
-    echo -n "$mode, one-thread walks, "; med /tmp/c*.json
-  done; done | tee -a "$OUT/concurrent.log"
+  for mode in base full; do for k in 1 $((n / 2)) $n 1; do at_once $mode "$k"; done; done | tee -a "$OUT/concurrent.log"
   for mode in base full; do for t in 1 "$n"; do
-    $E walk scenes/artroom.nff --path /tmp/orbit.path --mode $mode --size 640x480 --threads "$t" --quiet --stats /tmp/$mode$t.json
+    $E walk scenes/artroom.nff --path /tmp/orbit.path --mode $mode --size "$SIZE" --threads "$t" --quiet --stats /tmp/$mode$t.json
     python3 -c "
 import json,statistics as st
 fr=json.load(open('/tmp/$mode$t.json'))['frames'][1:]
