@@ -13,9 +13,12 @@ jobs=$(nproc)
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DEPSRAY_SANITIZE=address,undefined \
   -DEPSRAY_BENCH=OFF >/dev/null
 cmake --build build-asan -j"$jobs" >/dev/null
+# A failing test runs once more (--repeat until-pass:2): once in session 13 LeakSanitizer's
+# stop-the-world tracer itself crashed ("Tracer caught signal 11") at the exit of a test that
+# had passed. A test that fails twice fails CI; tools/run-tests.sh never retries.
 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \
   LSAN_OPTIONS="suppressions=$PWD/tools/lsan.supp" \
-  ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900
+  ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 900 --repeat until-pass:2
 
 cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DEPSRAY_SANITIZE=thread \
   -DEPSRAY_BENCH=OFF >/dev/null
