@@ -28,6 +28,11 @@ import json,statistics as st,sys
 m=[st.median(f['ms'] for f in json.load(open(p))['frames'][1:]) for p in sys.argv[2:]]
 print('%s, %d one-thread walks at once: median of per-process median frame ms %.1f (min %.1f max %.1f)' % (sys.argv[1], len(m), st.median(m), min(m), max(m)))" "$1" /tmp/c*.json
 }
+# The scaling sweep over 1..N threads with REPS repetitions: sweep N REPS.
+sweep() {
+  python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$1 --frames 16 --reps "$2" --size "$SIZE" \
+    --out "$OUT/scaling.md" scenes/artroom.nff .dev/spd/balls-s3.nff .dev/spd/teapot-s6.nff | tee "$OUT/scaling.log"
+}
 case "${1:-}" in
 pack)
   rm -rf .dev && mkdir -p .dev/lib .dev/spd
@@ -52,8 +57,7 @@ run)
      --variant scan=$E,--tile-order,scan)
   [ -x .dev/epsray0 ] && v=(--variant old=.dev/epsray0 "${v[@]}")
   python3 perf/scaling/sched_ab.py --threads "$n" --reps 3 "${v[@]}" --out "$OUT/sched$n.md" | tail -12
-  python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$n --frames 16 --reps 2 --size "$SIZE" \
-    --out "$OUT/scaling.md" scenes/artroom.nff .dev/spd/balls-s3.nff .dev/spd/teapot-s6.nff | tee "$OUT/scaling.log" ;;
+  sweep "$n" 2 ;;
 pipeline)
   export PYTHONUNBUFFERED=1
   n=$(nproc)
@@ -61,8 +65,7 @@ pipeline)
   python3 perf/scaling/sched_ab.py --threads "$n" --reps 3 --size "$SIZE" --modes full --variant default=$E \
     --variant pipeline=$E,--pipeline --variant pipeline-1=$E,--pipeline,--threads,$((n - 1)) --out "$OUT/pipeline$n.md" | tail -5
   for k in 1 "$n" 1; do at_once base "$k"; done | tee "$OUT/ceiling.log"
-  python3 perf/scaling/bench.py --exe $E --threads 1,2,4,8,12,$n --frames 16 --reps 3 --size "$SIZE" \
-    --out "$OUT/scaling.md" scenes/artroom.nff .dev/spd/balls-s3.nff .dev/spd/teapot-s6.nff | tee "$OUT/scaling.log" ;;
+  sweep "$n" 3 ;;
 extras)
   export PYTHONUNBUFFERED=1
   n=$(nproc)
