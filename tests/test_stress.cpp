@@ -71,6 +71,7 @@ struct walk_case {
   double eps = 0.05;
   int frames = 0;  // expected number of frames
   int min_cell_pixels = 0;  // > 0: --min-cell-pixels (finer cells: more pixels interpolated)
+  fs::path scene_dir = stress_dir(), path_dir = stress_dir() / "paths";
 };
 
 class Stress : public testing::Test {
@@ -85,9 +86,9 @@ class Stress : public testing::Test {
     eps << c.eps;
     std::vector<std::string> argv{EPSRAY_BINARY,
                                         "walk",
-                                        (stress_dir() / c.scene).string(),
+                                        (c.scene_dir / c.scene).string(),
                                         "--path",
-                                        (stress_dir() / "paths" / c.path).string(),
+                                        (c.path_dir / c.path).string(),
                                         "--mode",
                                         c.mode,
                                         "--eps",
@@ -358,6 +359,35 @@ TEST_F(Stress, HugeEpsSubpixelSmoothInterp) {
 }
 
 TEST_F(Stress, HugeEpsShinyTeleportFull) { walk({"shiny.nff", "teleport.path", "full", "128x96", 10, 7}); }
+
+// --- random scenes ------------------------------------------------------------------------------
+
+// scenes/random/: scenes nobody wrote (tools/random-scene.py --count 8 --seed 5 --hard 0.3
+// --paths), each with its own path (an orbit closing in, then two fast turns). Every
+// primitive kind, mirrors, glass both ways of ior, textures, coloured lights, transforms, and
+// the hard cases: coplanar polygons, nested glass, a light inside glass or just above a disk,
+// slivers, interpenetrating solids, a plane seen edge on. The bound must hold on them as on
+// the cases above.
+class RandomScene : public Stress, public testing::WithParamInterface<int> {
+ protected:
+  walk_case at(const std::string& mode, double eps, int min_cell_pixels = 0) const {
+    char name[32];
+    std::snprintf(name, sizeof name, "random-s5-%02d", GetParam());
+    const fs::path dir = fs::path(EPSRAY_SOURCE_DIR) / "scenes" / "random";
+    return {std::string(name) + ".nff", std::string(name) + ".path", mode, "128x96", eps, 10, min_cell_pixels, dir, dir};
+  }
+};
+
+TEST_P(RandomScene, FullHoldsTheBound) {
+  const walk_result r = walk(at("full", 0.05));
+  EXPECT_GT(r.fast + r.interp, 0u) << "some pixels take the accelerated paths, or the scene tests nothing";
+}
+
+TEST_P(RandomScene, InterpHoldsTheBoundAtSmallEps) { walk(at("interp", 0.01)); }
+
+TEST_P(RandomScene, FullHoldsTheBoundWithFineCells) { walk(at("full", 0.2, 1)); }
+
+INSTANTIATE_TEST_SUITE_P(Seed5, RandomScene, testing::Range(0, 8));
 
 }  // namespace
 }  // namespace epsray
