@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <x86intrin.h>  // __rdtsc, the counter sched/cycle_clock.h reads
 
 #include "interp/cell_screen.h"
 #include "predicate/error_predicate.h"
+#include "sched/cycle_clock.h"  // cycle_now is inline: no link to the scheduler library
 #include "shade/surface.h"
 #include "shade/texture.h"
 
@@ -365,11 +365,11 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
       // A shadow or secondary ray per pixel costs more than splitting a large cell, whose
       // children mostly prove what it could not: only small cells defer.
       const bool defer = pixels < f.p.defer_pixels;
-      const std::uint64_t b0 = __rdtsc();
+      const std::uint64_t b0 = cycle_now();
       ip = publish(*node,
                    build_interpolant(w, h.prim, lt.fp, *node, terminal, defer, f.trees->samples(), st, scratch, true),
                    f.trees->node_bytes());
-      st.build_ticks += __rdtsc() - b0;
+      st.build_ticks += cycle_now() - b0;
     }
     if (!cell_accurate(*ip, f.p.eps)) {
       const std::uint8_t axes = f.p.four_way ? ip->split : std::uint8_t(split_all);
