@@ -27,12 +27,13 @@ struct cli_options {
   tile_order order = tile_order::costly_first;
   std::string png, pfm, stats, out_dir, reasons;
   std::string record, script, screenshot;  // view only
-  float min_cell_pixels = 16;
-  float min_prim_pixels = 1024;
-  std::optional<float> failed_split_pixels;  // unset: 0 at rest, 64 while the camera moves
-  float defer_pixels = 256;
-  bool four_way = true;
-  int span_segment = 32;  // full: screen-space span segments of at most this many pixels; 0: none
+  // The interpolation knobs start at the engine's defaults (interp_params), stated once.
+  float min_prim_pixels = interp_params{}.min_prim_pixels;
+  // Unset: interp_params' values at rest and its moving_ ones while the camera moves;
+  // given: the same value for both.
+  std::optional<float> min_cell_pixels, failed_split_pixels, defer_pixels;
+  bool four_way = interp_params{}.four_way;
+  int span_segment = interp_params{}.span_segment;  // full: screen-space span segments; 0: none
   bool reproject_osmesa = false;  // full: draw last frame's cells with OSMesa, not the exact per-pixel test
   bool pipeline = false;  // walk, full: prepare each next frame's reprojection on a thread of its own
   bool pin = false;  // bind worker threads to cores (hwloc)

@@ -81,11 +81,11 @@ frame_params make_frame_params(const cli_options& o, linetree_set* trees, reproj
   frame_params fp;
   fp.mode = o.mode;
   fp.interp.eps = o.eps;
-  fp.interp.min_cell_pixels = o.min_cell_pixels;
   fp.interp.min_prim_pixels = o.min_prim_pixels;
-  // Given, the floor holds whether the camera moves or not.
+  // Given, a floor holds whether the camera moves or not.
+  if (o.min_cell_pixels) fp.interp.min_cell_pixels = fp.interp.moving_min_cell_pixels = *o.min_cell_pixels;
   if (o.failed_split_pixels) fp.interp.failed_split_pixels = fp.interp.moving_failed_split_pixels = *o.failed_split_pixels;
-  fp.interp.defer_pixels = o.defer_pixels;
+  if (o.defer_pixels) fp.interp.defer_pixels = fp.interp.moving_defer_pixels = *o.defer_pixels;
   fp.interp.four_way = o.four_way;
   fp.interp.span_segment = o.span_segment;
   fp.trees = trees;

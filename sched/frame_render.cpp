@@ -163,7 +163,11 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   std::vector<tile_totals> totals(tiles.size());
   std::vector<ray_tree_store> trees(p.keep_ray_trees ? tiles.size() : 0);
   interp_frame f{&w, p.trees, &cam, p.interp};
-  if (p.camera_moving) f.p.failed_split_pixels = std::max(f.p.failed_split_pixels, f.p.moving_failed_split_pixels);
+  if (p.camera_moving) {
+    f.p.min_cell_pixels = std::max(f.p.min_cell_pixels, f.p.moving_min_cell_pixels);
+    f.p.failed_split_pixels = std::max(f.p.failed_split_pixels, f.p.moving_failed_split_pixels);
+    f.p.defer_pixels = std::max(f.p.defer_pixels, f.p.moving_defer_pixels);
+  }
   // Primitives too small on screen to be worth linetrees (interp and full): a function of
   // the camera alone, like every cost-model choice, so images do not depend on threads.
   std::vector<std::uint8_t> small;

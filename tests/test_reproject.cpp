@@ -486,9 +486,11 @@ TEST(SpanFill, FullWalkStaysWithinEpsAndIgnoresThreadCount) {
   EXPECT_EQ(none.fast, a.fast) << "spans fill the pixels per-pixel evaluation would";
 }
 
-// While the camera moves, cells refused for an edge are not split below
-// moving_failed_split_pixels: fewer cells are built along edges and more of their pixels
-// are traced; a resting camera splits them as before. Both stay within epsilon.
+// While the camera moves, cells are not split below moving_min_cell_pixels, cells refused
+// for an edge not below moving_failed_split_pixels, and cells under moving_defer_pixels may
+// defer: fewer cells are built and more pixels are traced; a resting camera splits them as
+// before. Both stay within epsilon, and with the moving floors set to the resting ones a
+// moving frame is the resting frame.
 TEST(Reprojection, AMovingCameraBuildsFewerEdgeCellsThanARestingOne) {
   world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/artroom.nff"));
   camera_view moved = w.sc.view;
@@ -498,12 +500,17 @@ TEST(Reprojection, AMovingCameraBuildsFewerEdgeCellsThanARestingOne) {
     std::uint64_t traced = 0;
     size_t bytes = 0;
   };
-  auto second_frame = [&](bool moving) {
+  auto second_frame = [&](bool moving, bool same_floors = false) {
     linetree_set trees(w.prim_bounds);
     reprojection_state reproj;
     workers pool(2);
     frame_params p;
     p.mode = render_mode::full, p.interp.eps = 0.05f, p.trees = &trees, p.reproj = &reproj;
+    if (same_floors) {
+      p.interp.moving_min_cell_pixels = p.interp.min_cell_pixels;
+      p.interp.moving_failed_split_pixels = p.interp.failed_split_pixels;
+      p.interp.moving_defer_pixels = p.interp.defer_pixels;
+    }
     render_frame(pool, w, make_camera(w.sc.view, width, height), p);
     p.camera_moving = moving;
     const camera cam = make_camera(moved, width, height);
@@ -515,6 +522,9 @@ TEST(Reprojection, AMovingCameraBuildsFewerEdgeCellsThanARestingOne) {
   const run resting = second_frame(false), moving = second_frame(true);
   EXPECT_GT(moving.traced, resting.traced);
   EXPECT_LT(moving.bytes, resting.bytes);
+  const run same = second_frame(true, true);
+  EXPECT_EQ(same.traced, resting.traced);
+  EXPECT_EQ(same.bytes, resting.bytes);
 }
 
 // --- reprojection through OSMesa (--reproject osmesa) -------------------------------------

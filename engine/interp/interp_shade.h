@@ -17,14 +17,17 @@ struct interp_params {
   float eps = 0.05f;
   float min_cell_pixels = 16;  // no subdivision into children covering fewer pixels
   float failed_split_pixels = 0;  // ... nor, after a discontinuity or a miss, fewer than these
-  // The same floor while the camera moves (frame_params::camera_moving): children of a cell
-  // refused for an edge mostly fail too, and a moving eye needs new ones along every edge
-  // each frame, so there building them costs more than tracing their pixels; a resting
-  // camera builds them once and keeps them.
-  float moving_failed_split_pixels = 64;
   float max_cell_pixels = 4096;  // larger cells are subdivided without building an interpolant
   float defer_pixels = 256;    // cells under these pixels may leave lights and secondary
                                // rays they cannot prove to per-pixel rays
+  // The same three while the camera moves (frame_params::camera_moving): a moving eye needs
+  // new cells along every edge each frame, and a cell it builds serves a few frames, so
+  // there tracing a pixel or casting its shadow rays costs less than building and proving
+  // small cells. A resting camera builds them once and keeps them (session 14: the art-room
+  // walk 0.91 of the time with these, perf/pair.py; a still frame unchanged).
+  float moving_min_cell_pixels = 32;
+  float moving_failed_split_pixels = 128;
+  float moving_defer_pixels = 1024;
   int max_depth = 16;          // halvings of any axis below the root (floats keep ~7 digits)
   // Primitives whose box covers fewer pixels on screen are traced, with no linetree: the
   // 16 corner lines and the bound of each cell cost more than a few dozen pixels save,
