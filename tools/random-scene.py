@@ -22,7 +22,6 @@ plus a camera path each).
 import argparse, math, os, random
 
 TEXTURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scenes", "textures")
-TEXTURE_DIR = TEXTURES  # how the scenes name it: relative to where they are written (main)
 
 
 def vec(v): return " ".join("%.9g" % x for x in v)
@@ -46,8 +45,9 @@ def material(rng):
     return "f %s %.4g %.4g %.4g %.4g %.4g" % (vec(c), kd, ks, shine, t, ior)
 
 
-def texture(rng, textured_ok):
-    if not textured_ok or rng.random() < 0.75:
+def texture(rng, tex_dir):
+    """A texture line for the next primitives (mostly none); images named from tex_dir."""
+    if rng.random() < 0.75:
         return "texture none"
     s = rng.uniform(0.1, 3)
     if rng.random() < 0.5:
@@ -55,7 +55,7 @@ def texture(rng, textured_ok):
         b = [rng.uniform(0, 1) for _ in range(3)]
         return "texture checker %s %s %.4g %.4g" % (vec(a), vec(b), s, s * rng.uniform(0.5, 2))
     name = rng.choice(sorted(f for f in os.listdir(TEXTURES) if f.endswith(".png")))
-    return "texture image %s %.4g %.4g" % (os.path.join(TEXTURE_DIR, name), s, s * rng.uniform(0.5, 2))
+    return "texture image %s %.4g %.4g" % (os.path.join(tex_dir, name), s, s * rng.uniform(0.5, 2))
 
 
 def point(rng, r):
@@ -105,7 +105,7 @@ def primitive(rng, r):
     return ["p %d" % len(pts)] + [vec(v) for v in pts]
 
 
-def hard_case(rng, r):
+def hard_case(rng, r, tex_dir):
     """Configurations where methods fail: coincident and nested surfaces, a light inside
     glass or next to a surface, slivers, grazing planes."""
     kind = rng.choice(["coplanar", "nested-glass", "light-inside", "light-close", "sliver", "interpenetrate",
@@ -137,7 +137,7 @@ def hard_case(rng, r):
                 material(rng), "c %s %.9g %s %.9g" % (vec(p), size * 0.3, vec(q), size * 0.3)]
     # A wide plane, nearly level: seen almost edge on from eye height.
     g = 1.5 * r
-    return [material(rng), texture(rng, True), "p 4", vec([p[0] - g, p[1], p[2] - g]),
+    return [material(rng), texture(rng, tex_dir), "p 4", vec([p[0] - g, p[1], p[2] - g]),
             vec([p[0] - g, p[1] + 0.01 * r, p[2] + g]), vec([p[0] + g, p[1] + 0.01 * r, p[2] + g]),
             vec([p[0] + g, p[1], p[2] - g])]
 
@@ -160,7 +160,7 @@ def orbit_path(eye, at, angle, what):
     return "\n".join(lines) + "\n"
 
 
-def scene(rng, index, hard):
+def scene(rng, index, hard, tex_dir):
     """The scene's text and its camera path's."""
     r = rng.choice([1.0, 10.0, 0.05, 300.0])  # the scene's scale
     out = ["# random scene %d (tools/random-scene.py), scale %g" % (index, r)]
@@ -181,7 +181,7 @@ def scene(rng, index, hard):
         out.append("ambient %s" % vec([rng.uniform(0, 0.3) for _ in range(3)]))
     # A ground, often textured: most scenes have one and its shadows and reflections matter.
     if rng.random() < 0.8:
-        out += [material(rng), texture(rng, True)]
+        out += [material(rng), texture(rng, tex_dir)]
         g = 3 * r
         if rng.random() < 0.5:
             out += ["p 4", vec([-g, 0, -g]), vec([-g, 0, g]), vec([g, 0, g]), vec([g, 0, -g])]
@@ -201,10 +201,10 @@ def scene(rng, index, hard):
             depth -= 1
         if rng.random() < 0.6:
             out.append(material(rng))
-            out.append(texture(rng, True))
+            out.append(texture(rng, tex_dir))
         out += primitive(rng, r)
         if rng.random() < hard:
-            out += hard_case(rng, r)
+            out += hard_case(rng, r, tex_dir)
     out += ["pop"] * depth
     return "\n".join(out) + "\n", orbit_path(eye, [0, 0.3 * r, 0], float("%.3g" % angle), out[0][2:])
 
@@ -218,12 +218,11 @@ def main():
     ap.add_argument("--paths", action="store_true", help="also write SCENE.path: an orbit, then a fast turn")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    global TEXTURE_DIR
-    TEXTURE_DIR = os.path.relpath(TEXTURES, a.out)  # scene files resolve it against their folder
+    tex_dir = os.path.relpath(TEXTURES, a.out)  # scene files resolve it against their folder
     rng = random.Random(a.seed)
     for i in range(a.count):
         name = os.path.join(a.out, "random-s%d-%02d" % (a.seed, i))
-        text, path = scene(rng, i, a.hard)
+        text, path = scene(rng, i, a.hard, tex_dir)
         with open(name + ".nff", "w") as f:
             f.write(text)
         if a.paths:
