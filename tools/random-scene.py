@@ -6,8 +6,8 @@ This writes N random scenes in the native superset: every primitive kind (sphere
 and capped cones and cylinders, boxes, disks, convex and concave polygons, patches with
 vertex normals), materials from matte to mirror and glass (ior above and below 1, so
 total internal reflection both ways), checker and image textures, plain and coloured
-lights, an explicit ambient now and then, and nested transforms. Sizes span two orders of
-magnitude inside one scene, so large and tiny primitives meet. Lit diffuse radiance is
+lights, an explicit ambient now and then, and nested transforms. Primitives run from 2% to
+50% of the scene's scale, so large and small ones meet. Lit diffuse radiance is
 kept near or below 1 (scene-format.md), some scenes push past it. With --hard H, each
 primitive comes with probability H with a configuration where methods fail: coplanar
 overlapping polygons, nested glass, a light inside glass or just above a disk, slivers,
