@@ -56,6 +56,13 @@ inline affine affine_variable(int i, double l, double h) {
   return a;
 }
 
+// Some value in [l, h], with no known dependence on the coordinates.
+inline affine affine_range(double l, double h) {
+  affine a(0.5 * (l + h));
+  a.r = 0.5 * (h - l) + aff_detail::slack(std::fabs(l) + std::fabs(h)) * 2;
+  return aff_detail::fix(a);
+}
+
 inline affine operator+(const affine& a, const affine& b) {
   affine s(a.c + b.c);
   double mag = std::fabs(s.c);
@@ -114,12 +121,50 @@ inline affine linearize(const affine& a, double phi_m, double dphi_m, double max
   return aff_detail::fix(s);
 }
 
+// a's range with its ends rounded outwards: lo and hi are sums whose rounding the secant
+// form below, tight at both ends, must not miss (1/x is steep near 0).
+inline void outer_range(const affine& a, double& l, double& h) {
+  const double pad = (std::fabs(a.c) + a.radius()) * 2e-15;
+  l = lo(a) - pad, h = hi(a) + pad;
+}
+
+// phi over [l, h] (holding a's range) by its secant (the min-range approximation):
+// g(x) = phi(x) - phi(l) - alpha (x - l) is convex or concave there, so its range is
+// spanned by g(l) = 0, g(h) and g at x_star, where phi'(x_star) = alpha (x_of_slope).
+// Over a wide range, where phi'' varies by orders of magnitude (1/x, sqrt near 0), the
+// tangent's remainder is far looser: a direction normalized over a wide cell came out
+// unbounded.
+template <class Phi, class XOfSlope>
+inline affine linearize_secant(const affine& a, double l, double h, Phi&& phi, XOfSlope&& x_of_slope) {
+  const double w = h - l, pl = phi(l), ph = phi(h), alpha = (ph - pl) / w;
+  if (!(w > 0) || !std::isfinite(pl) || !std::isfinite(ph) || !std::isfinite(alpha)) return aff_detail::unbounded();
+  auto g = [&](double x) { return phi(x) - pl - alpha * (x - l); };
+  const double gh = g(h), xs = x_of_slope(alpha);
+  double glo = std::min(0.0, gh), ghi = std::max(0.0, gh);
+  if (xs > l && xs < h) glo = std::min(glo, g(xs)), ghi = std::max(ghi, g(xs));
+  affine s = (a - l) * alpha + (pl + 0.5 * (glo + ghi));
+  s.r += 0.5 * (ghi - glo) +
+         aff_detail::slack(std::fabs(pl) + std::fabs(ph) + std::fabs(alpha) * (std::fabs(l) + std::fabs(h))) * 16;
+  return aff_detail::fix(s);
+}
+
+// The narrower of the tangent and secant forms (both enclose phi over a's range).
+inline affine narrower(const affine& tangent, const affine& secant) {
+  return secant.radius() < tangent.radius() ? secant : tangent;
+}
+
 // 1/a for a range not containing 0.
 inline affine recip(const affine& a) {
   double l = lo(a), h = hi(a);
   if (!(l > 0 || h < 0)) return aff_detail::unbounded();
   double m = a.c, near = std::min(std::fabs(l), std::fabs(h));
-  return linearize(a, 1 / m, -1 / (m * m), 2 / (near * near * near));
+  affine t = linearize(a, 1 / m, -1 / (m * m), 2 / (near * near * near));
+  double ol, oh;
+  outer_range(a, ol, oh);
+  if (!(ol > 0 || oh < 0)) return t;
+  const double side = l > 0 ? 1.0 : -1.0;  // 1/x' = alpha = -1/x^2 at x = side / sqrt(-alpha)
+  return narrower(t, linearize_secant(a, ol, oh, [](double x) { return 1 / x; },
+                                      [side](double alpha) { return side / std::sqrt(-alpha); }));
 }
 inline affine operator/(const affine& a, const affine& b) { return a * recip(b); }
 inline affine operator/(const affine& a, double k) { return a * (1 / k); }
@@ -132,7 +177,12 @@ inline affine sqrt(const affine& a) {
   double l = lo(a);
   if (!(l > 0)) return aff_detail::unbounded();
   double m = a.c, sm = std::sqrt(m);
-  return linearize(a, sm, 0.5 / sm, 0.25 / (l * std::sqrt(l)));
+  affine t = linearize(a, sm, 0.5 / sm, 0.25 / (l * std::sqrt(l)));
+  double ol, oh;
+  outer_range(a, ol, oh);
+  if (!(ol > 0)) return t;
+  return narrower(t, linearize_secant(a, ol, oh, [](double x) { return std::sqrt(x); },
+                                      [](double alpha) { return 0.25 / (alpha * alpha); }));
 }
 
 // a^k for a range > 0.
@@ -144,7 +194,12 @@ inline affine pow(const affine& a, double k) {
   double m = a.c;
   // |phi''| = |k (k - 1)| x^(k-2) is monotone in x: its max is at one end.
   double dd = std::fabs(k * (k - 1)) * std::max(std::pow(l, k - 2), std::pow(h, k - 2));
-  return linearize(a, std::pow(m, k), k * std::pow(m, k - 1), dd * (1 + 1e-12));
+  affine t = linearize(a, std::pow(m, k), k * std::pow(m, k - 1), dd * (1 + 1e-12));
+  double ol, oh;
+  outer_range(a, ol, oh);
+  if (!(ol > 0)) return t;
+  return narrower(t, linearize_secant(a, ol, oh, [k](double x) { return std::pow(x, k); },
+                                      [k](double alpha) { return std::pow(alpha / k, 1 / (k - 1)); }));
 }
 
 }  // namespace epsray

@@ -16,6 +16,10 @@ namespace {
 // Affine forms: interval bounds of these expressions over wide cells were 1000x too loose.
 using djet = djet_t<affine>;
 
+// A deferrable light whose own bound exceeds this share of the cell's least radiance is
+// deferred (evaluator::defer_loose_lights).
+constexpr double loose_light_share = 0.05;
+
 djet djet_variable(int i, double l, double h) {
   djet j(affine_variable(i, l, h));
   j.d[i] = affine(1.0);
@@ -36,7 +40,25 @@ jv operator*(const jv& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
 jv operator/(const jv& a, const djet& s) { return {a.x / s, a.y / s, a.z / s}; }
 djet dot(const jv& a, const jv& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 djet dot(const jv& a, glm::dvec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-jv normalize(const jv& a) { return a / sqrt(dot(a, a)); }
+// |a|^2, its value also bounded below through each component's own range: the affine
+// product of a form that straddles 0 with itself dips below 0, and over a wide cell that
+// left sqrt, and every direction normalized from it, unbounded (teapot-s6's floor cells
+// could not prove a highlight's N.H positive, though one component never nears 0).
+djet norm2(const jv& a) {
+  djet s = dot(a, a);
+  if (lo(s.v) > 0) return s;
+  double least = 0;  // sum of each component's least square over its range
+  for (int i = 0; i < 3; ++i) {
+    const double l = lo(a[i].v), h = hi(a[i].v);
+    const double m = l > 0 ? l : (h < 0 ? -h : 0.0);
+    least += m * m;
+  }
+  least *= 1 - 1e-12;  // the squares' and the sum's rounding
+  if (!(least > 0) || !std::isfinite(hi(s.v))) return s;
+  s.v = affine_range(least, hi(s.v));
+  return s;
+}
+jv normalize(const jv& a) { return a / sqrt(norm2(a)); }
 jv constant(glm::dvec3 p) { return {djet(p.x), djet(p.y), djet(p.z)}; }
 jv operator-(const jv& a, glm::dvec3 b) { return a - constant(b); }
 
@@ -118,10 +140,57 @@ struct evaluator {
   double path_weight = 1;  // product of ks and t down to the node being bounded
   bool allow_defer = false;         // may more lights and subtrees be deferred
   shadow_candidates shadow{};       // the deferred lights' possible blockers, where few
+  double cell_width[4] = {0, 0, 0, 0};  // the cell's extent along each coordinate
 
   bool reject(cell_reason r) {
     if (fail == cell_reason::valid) fail = r;
     return false;
+  }
+
+  // A light's terms at one surface family, before they join its radiance.
+  struct light_terms {
+    size_t j = 0;
+    djet diffuse[3], spec[3];  // diffuse: times the texel on a textured root
+    double noise[3] = {0, 0, 0};
+  };
+  light_terms root_lights[max_deferred_lights]{};  // the root's deferrable lights, bounded
+  size_t n_root_lights = 0;
+
+  void add_light(const light_terms& lt, djet* acc, djet* tf) {
+    for (int c = 0; c < 3; ++c) {
+      if (tf) tf[c] = tf[c] + lt.diffuse[c];
+      else acc[c] = acc[c] + lt.diffuse[c];
+      acc[c] = acc[c] + lt.spec[c];
+      noise[c] += lt.noise[c];
+    }
+  }
+
+  // A deferrable light of the root whose own interpolation bound exceeds loose_light_share
+  // of the cell's least radiance is deferred: its per-pixel shadow ray costs less than the
+  // cell's pixels traced, or its children built, for want of a bound only this light
+  // spoils (a highlight over a wide cell). The rule depends on the cell alone, not on eps.
+  void defer_loose_lights(const djet* acc, const djet* tf, const material& m) {
+    glm::dvec3 tlo(1), thi(1);
+    if (tf && m.texture >= 0) {
+      const texture_range& tr = w.texture_ranges[size_t(m.texture)];
+      tlo = glm::dvec3(tr.lo), thi = glm::dvec3(tr.hi);
+    }
+    double least[3];
+    for (int c = 0; c < 3; ++c) {
+      least[c] = lo(acc[c].v) + (tf ? tlo[c] * lo(tf[c].v) : 0.0);
+      for (size_t k = 0; k < n_root_lights; ++k)
+        least[c] += lo(root_lights[k].spec[c].v) + tlo[c] * lo(root_lights[k].diffuse[c].v);
+    }
+    for (size_t k = 0; k < n_root_lights; ++k) {
+      for (int c = 0; c < 3; ++c) {
+        const double e = interpolation_error(root_lights[k].spec[c], cell_width) +
+                         thi[c] * interpolation_error(root_lights[k].diffuse[c], cell_width);
+        if (!(e <= loose_light_share * std::max(least[c], 1.0 / 255))) {
+          deferred |= 1u << root_lights[k].j;
+          break;
+        }
+      }
+    }
   }
 
   // For each deferred light, the primitives (but `self`, when a shadow ray cannot meet it
@@ -652,16 +721,23 @@ struct evaluator {
         spec = pow(nh, double(m.shine));
       }
       glm::dvec3 I = dv(w.light_power[j]);
+      light_terms lt;
+      lt.j = j;
       for (int c = 0; c < 3; ++c) {
-        djet diffuse = ndl * (I[c] * kdc[c]);
-        if (split) tf[c] = tf[c] + diffuse;
-        else acc[c] = acc[c] + diffuse;
-        acc[c] = acc[c] + spec * (I[c] * double(m.ks));
+        lt.diffuse[c] = ndl * (I[c] * kdc[c]);
+        lt.spec[c] = spec * (I[c] * double(m.ks));
         // 16 ulps of N.H (2^-20): the shiny stress scene's reference stepped by one ulp's
         // worth (shine 50000: 2e-4 in 0.13) between neighbouring rays.
-        if (m.shine > 0 && m.ks > 0)
-          noise[c] += path_weight * I[c] * double(m.ks) * double(m.shine) * hi(spec.v) * 0x1p-20;
+        lt.noise[c] = m.shine > 0 && m.ks > 0 ? path_weight * I[c] * double(m.ks) * double(m.shine) * hi(spec.v) * 0x1p-20 : 0;
       }
+      // The root's deferrable lights wait until all are bounded (defer_loose_lights).
+      if (deferrable) root_lights[n_root_lights++] = lt;
+      else add_light(lt, acc, split ? tf : nullptr);
+    }
+    if (from < 0 && n_root_lights) {
+      defer_loose_lights(acc, split ? tf : nullptr, m);
+      for (size_t k = 0; k < n_root_lights; ++k)
+        if (!(deferred >> root_lights[k].j & 1)) add_light(root_lights[k], acc, split ? tf : nullptr);
     }
     const bool leave_ok = cannot_reenter(kind, sf.from_outside, pr.kind == prim_kind::patch);
     if (from < 0 && deferred) list_shadow_candidates(above_box, leave_ok ? prim : -1);
@@ -736,6 +812,7 @@ cell_bound bound_cell(const cell_query& q) {
   const facepair& fp = *q.fp;
   evaluator ev{w, *q.tree};  // the rest by name: a positional list silently shifts when members move
   ev.deferred = q.deferred, ev.deferred_rays = q.deferred_rays, ev.allow_defer = q.allow_defer;
+  for (int i = 0; i < 4; ++i) ev.cell_width[i] = double(q.hi[i]) - double(q.lo[i]);
   glm::dvec3 ext = dv(w.box.extent());
   double scene = glm::length(ext);
   // Lines start on the facepair's front plane, within a few object sizes of the scene.
