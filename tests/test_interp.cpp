@@ -928,6 +928,47 @@ TEST(Predicate, SoundOnWideCellsOfAShinyFloor) {
   }
 }
 
+// A thin box (a painting on its wall) seen head-on: lines of a cell in front of its face
+// run both ways along the face's two axes, so the slab test, dividing by the direction's
+// component along each axis, refused every such cell as a discontinuity. They can only
+// enter through the face, whose rectangle test bounds them along those axes.
+const char* box_head_on = R"(
+v
+from 0 0 5
+at 0 0 0
+up 0 1 0
+angle 40
+hither 0.01
+resolution 32 32
+l 2 3 6
+f 0.8 0.6 0.3 0.7 0.25 60 0 1
+box -1 -1 -0.1 1 1 0.1
+)";
+
+TEST(Predicate, ProvesABoxFaceSeenHeadOn) {
+  world w = world_of(box_head_on);
+  const int box = w.shape_of[0];
+  linetree_set trees(w.prim_bounds);
+  linetree& lt = trees.get(box, 5);  // rays going -z
+  lt_node cell;
+  for (int i = 0; i < 4; ++i) cell.lo[i] = 0.3f - 0.02f, cell.hi[i] = 0.3f + 0.02f;
+  std::array<ray_tree, 16> t16;
+  ASSERT_TRUE(trace_corners(w, box, lt.fp, cell.lo, cell.hi, t16));
+  const cell_bound b = bound(w, box, lt.fp, cell.lo, cell.hi, t16[0], 0, 0, false);
+  EXPECT_EQ(b.reason, cell_reason::valid);
+  for (int c = 0; c < 3; ++c) EXPECT_LT(b.err[c], 0.01f) << "front " << lt.fp.front << " back " << lt.fp.back;
+  // Lines that cross the face's edge (x = 1) are still refused.
+  for (int i : {0, 2}) cell.lo[i] = 0.98f, cell.hi[i] = 1.02f;
+  ASSERT_TRUE(trace_corners(w, box, lt.fp, cell.lo, cell.hi, t16) == false ||
+              bound(w, box, lt.fp, cell.lo, cell.hi, t16[0], 0, 0, false).reason != cell_reason::valid);
+}
+
+TEST(Predicate, SoundOnABoxFaceSeenHeadOn) {
+  sound_stats s;
+  check_soundness(world_of(box_head_on), 24, 2, 8, s, false);
+  EXPECT_GT(s.accepted, 50);
+}
+
 TEST(Predicate, RefusesCellsWithinRoundingOfARimOrAnEdge) {
   // Lines running -z meet an open cylinder's side, and a box's front face, just below the
   // top (y = 1). A pixel's line is found in its cell by float coordinates, so it may lie a

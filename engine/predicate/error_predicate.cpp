@@ -381,10 +381,16 @@ struct evaluator {
     const glm::vec3* ax[3] = {&g.ax0, &g.ax1, &g.ax2};
     djet nearv[3], farv[3], dl[3];
     jv q = o - dv(g.c);
+    // Lines that may run parallel to a slab (a face seen head-on has two) can enter only
+    // through another face, whose rectangle test below bounds them along that slab's axis.
+    bool definite[3];
+    int n_definite = 0;
     for (int i = 0; i < 3; ++i) {
       djet ol = dot(q, dv(*ax[i]));
       dl[i] = dot(d, dv(*ax[i]));
-      if (!(lo(dl[i].v) > 0 || hi(dl[i].v) < 0)) return reject(cell_reason::discontinuity);
+      definite[i] = lo(dl[i].v) > 0 || hi(dl[i].v) < 0;
+      if (!definite[i]) continue;
+      ++n_definite;
       djet ta = (-double(g.half[i]) - ol) / dl[i], tb = (double(g.half[i]) - ol) / dl[i];
       if (lo(dl[i].v) > 0) nearv[i] = ta, farv[i] = tb;
       else nearv[i] = tb, farv[i] = ta;
@@ -427,7 +433,8 @@ struct evaluator {
     // (which failed most cells of a box seen at a slant).
     int k;
     for (k = 0; k < 3; ++k)
-      if (positive(nearv[k]) && within_face(k, nearv[k])) break;
+      if (definite[k] && positive(nearv[k]) && within_face(k, nearv[k])) break;
+    if (k == 3 && n_definite < 3) return reject(cell_reason::discontinuity);
     double max_near_hi = std::max({hi(nearv[0].v), hi(nearv[1].v), hi(nearv[2].v)});
     double min_far_lo = std::min({lo(farv[0].v), lo(farv[1].v), lo(farv[2].v)});
     if (k == 3) {  // else the slabs' ranges: a unique entry face, or the eye inside the box
