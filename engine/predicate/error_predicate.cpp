@@ -233,24 +233,27 @@ struct evaluator {
   bool intersect(int prim, const jv& o, const jv& d, const jv* span, surface_family& s) {
     const shape& sh = w.shapes[size_t(prim)];
     switch (sh.kind) {
-      case shape_kind::sphere: return hit_sphere(sh.sphere, o, d, s);
+      case shape_kind::sphere: return hit_sphere(sh.sphere, o, span ? *span : d, s);
       case shape_kind::triangle: return hit_plane(prim, o, span ? *span : d, s);
       case shape_kind::polygon: return hit_plane(prim, o, span ? *span : d, s);
       case shape_kind::disk: return hit_plane(prim, o, span ? *span : d, s);
-      case shape_kind::cone: return hit_cone(sh.cone, o, d, s);
-      case shape_kind::box: return hit_box(sh.box, o, d, s);
+      case shape_kind::cone: return hit_cone(sh.cone, o, span ? *span : d, s);
+      case shape_kind::box: return hit_box(sh.box, o, span ? *span : d, s);
     }
     return reject(cell_reason::missed);
   }
 
+  // d need not be unit. b^2 - |d|^2 c is written by Lagrange's identity as
+  // r^2 |d|^2 - |oc x d|^2, as for cones: the difference of two small squares.
   bool hit_sphere(const sphere_geom& g, const jv& o, const jv& d, surface_family& s) {
     jv oc = o - dv(g.c);
     djet b = dot(oc, d);
-    djet c = dot(oc, oc) - double(g.r) * double(g.r);
-    djet disc = sqr(b) - c;
+    djet a = norm2(d);
+    jv cr = {oc.y * d.z - oc.z * d.y, oc.z * d.x - oc.x * d.z, oc.x * d.y - oc.y * d.x};
+    djet disc = a * (double(g.r) * double(g.r)) - dot(cr, cr);
     if (!positive(disc)) return reject(cell_reason::missed);
     djet sq = sqrt(disc);
-    djet t0 = -b - sq, t1 = -b + sq;
+    djet t0 = (-b - sq) / a, t1 = (-b + sq) / a;
     if (positive(t0)) s.t = t0, s.from_outside = true;
     else if (hi(t0.v) <= 0 && positive(t1)) s.t = t1, s.from_outside = false;
     else return reject(cell_reason::discontinuity);
@@ -820,6 +823,17 @@ cell_bound bound_cell(const cell_query& q) {
   evaluator ev{w, *q.tree};  // the rest by name: a positional list silently shifts when members move
   ev.deferred = q.deferred, ev.deferred_rays = q.deferred_rays, ev.allow_defer = q.allow_defer;
   for (int i = 0; i < 4; ++i) ev.cell_width[i] = double(q.hi[i]) - double(q.lo[i]);
+  // A pixel's line is found in the cell by float coordinates (line_coords: o + t d rounded
+  // at the magnitudes of the eye and the coordinates), a few ulps from its exact line's, so
+  // the jets range over the cell widened by 16 ulps of those magnitudes, the scene's
+  // standing for the eye's (as in the hit tests' rounding margins). Loose enclosures once
+  // covered this by accident; tight ones need it said (a box's edge within rounding).
+  const double magnitude = 2 * std::max(glm::length(dv(w.box.lo)), glm::length(dv(w.box.hi)));
+  double lo4[4], hi4[4];
+  for (int i = 0; i < 4; ++i) {
+    const double pad = 0x1p-20 * (magnitude + std::max(std::fabs(double(q.lo[i])), std::fabs(double(q.hi[i]))));
+    lo4[i] = double(q.lo[i]) - pad, hi4[i] = double(q.hi[i]) + pad;
+  }
   glm::dvec3 ext = dv(w.box.extent());
   double scene = glm::length(ext);
   // Lines start on the facepair's front plane, within a few object sizes of the scene.
@@ -828,8 +842,8 @@ cell_bound bound_cell(const cell_query& q) {
   ev.far = 4 * (scene + reach + glm::length(dv(w.box.centre())) + std::fabs(double(fp.front)) + 1);
 
   jv o, p1;
-  djet a = djet_variable(0, q.lo[0], q.hi[0]), b = djet_variable(1, q.lo[1], q.hi[1]);
-  djet c = djet_variable(2, q.lo[2], q.hi[2]), d = djet_variable(3, q.lo[3], q.hi[3]);
+  djet a = djet_variable(0, lo4[0], hi4[0]), b = djet_variable(1, lo4[1], hi4[1]);
+  djet c = djet_variable(2, lo4[2], hi4[2]), d = djet_variable(3, lo4[3], hi4[3]);
   o[fp.axis] = djet(double(fp.front)), o[fp.u] = a, o[fp.v] = b;
   p1[fp.axis] = djet(double(fp.back)), p1[fp.u] = c, p1[fp.v] = d;
   const jv span = p1 - o;
