@@ -469,6 +469,16 @@ struct sound_stats {
   std::map<int, int> accepted_on;  // accepted cells per primitive id
 };
 
+// Pixel (x, y)'s eye ray: its first hit, and its line in that object's linetree.
+bool eye_line_at(const world& w, const camera& cam, linetree_set& trees, int x, int y, hit& h, linetree*& lt,
+                 float x4[4]) {
+  ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
+  if (!closest_hit(w, r, INFINITY, h)) return false;
+  lt = &trees.tree_for(h.prim, r.d);
+  line_coords(lt->fp, r.o, r.d, x4);
+  return true;
+}
+
 void check_soundness(const world& w, int samples_per_cell, int depth_lo, int depth_hi, sound_stats& st,
                      bool defer = true) {
   linetree_set trees(w.prim_bounds);
@@ -480,12 +490,11 @@ void check_soundness(const world& w, int samples_per_cell, int depth_lo, int dep
   const size_t nl = w.light_pos.size();
   for (int y = 0; y < cam.height; y += 3) {
     for (int x = 0; x < cam.width; x += 3) {
-      ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
       hit h;
-      if (!closest_hit(w, r, INFINITY, h)) continue;
-      linetree& lt = trees.tree_for(h.prim, r.d);
+      linetree* tree = nullptr;
       float x4[4];
-      line_coords(lt.fp, r.o, r.d, x4);
+      if (!eye_line_at(w, cam, trees, x, y, h, tree, x4)) continue;
+      linetree& lt = *tree;
       lt_node* n = &lt.root;
       for (int d = 0; d < depth_hi; ++d) {
         n = &subdivide(*n)[child_index(*n, split_all, x4)];
@@ -994,12 +1003,11 @@ TEST(Predicate, ProvesCellsInsideABeamsFaceSeenAtASlant) {
   for (int depth : {5, 6, 7, 8}) {
     for (int y = 0; y < cam.height; y += 2)
       for (int x = 0; x < cam.width; x += 2) {
-        ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
         hit h;
-        if (!closest_hit(w, r, INFINITY, h)) continue;
-        linetree& lt = trees.tree_for(h.prim, r.d);
+        linetree* tree = nullptr;
         float x4[4];
-        line_coords(lt.fp, r.o, r.d, x4);
+        if (!eye_line_at(w, cam, trees, x, y, h, tree, x4)) continue;
+        linetree& lt = *tree;
         lt_node* n = &lt.root;
         for (int d = 0; d < depth; ++d) n = &subdivide(*n)[child_index(*n, split_all, x4)];
         std::array<ray_tree, 16> t16;
