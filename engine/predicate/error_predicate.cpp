@@ -4,7 +4,8 @@
 #include <cmath>
 
 #include "geom/shape_build.h"
-#include "predicate/djet.h"
+#include "predicate/hit_family.h"
+#include "predicate/jet_vec.h"
 #include "predicate/shaft_shape.h"
 #include "shade/surface.h"
 #include "shade/whitted.h"
@@ -13,97 +14,13 @@ namespace epsray {
 
 namespace {
 
-// Affine forms: interval bounds of these expressions over wide cells were 1000x too loose.
-using djet = djet_t<affine>;
+// The jets and their 3-vectors (predicate/jet_vec.h); where the lines meet the primitives
+// (predicate/hit_family.cpp). This file bounds the radiance they carry.
+using namespace family;
 
 // A deferrable light whose own bound exceeds this share of the cell's least radiance is
 // deferred (evaluator::defer_loose_lights).
 constexpr double loose_light_share = 0.05;
-
-djet djet_variable(int i, double l, double h) {
-  djet j(affine_variable(i, l, h));
-  j.d[i] = affine(1.0);
-  return j;
-}
-
-// 3-vectors of jets: points and directions of a whole family of rays at once.
-struct jv {
-  djet x, y, z;
-  djet& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
-  const djet& operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
-};
-jv operator+(const jv& a, const jv& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-jv operator-(const jv& a, const jv& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-jv operator-(const jv& a) { return {-a.x, -a.y, -a.z}; }
-jv operator*(const jv& a, const djet& s) { return {a.x * s, a.y * s, a.z * s}; }
-jv operator*(const jv& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-jv operator/(const jv& a, const djet& s) { return {a.x / s, a.y / s, a.z / s}; }
-djet dot(const jv& a, const jv& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-djet dot(const jv& a, glm::dvec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-// |a|^2, its value also bounded below through each component's own range: the affine
-// product of a form that straddles 0 with itself dips below 0, and over a wide cell that
-// left sqrt, and every direction normalized from it, unbounded (teapot-s6's floor cells
-// could not prove a highlight's N.H positive, though one component never nears 0).
-djet norm2(const jv& a) {
-  djet s = dot(a, a);
-  if (lo(s.v) > 0) return s;
-  double least = 0;  // sum of each component's least square over its range
-  for (int i = 0; i < 3; ++i) {
-    const double l = lo(a[i].v), h = hi(a[i].v);
-    const double m = l > 0 ? l : (h < 0 ? -h : 0.0);
-    least += m * m;
-  }
-  least *= 1 - 1e-12;  // the squares' and the sum's rounding
-  if (!(least > 0) || !std::isfinite(hi(s.v))) return s;
-  s.v = affine_range(least, hi(s.v));
-  return s;
-}
-jv normalize(const jv& a) { return a / sqrt(norm2(a)); }
-jv constant(glm::dvec3 p) { return {djet(p.x), djet(p.y), djet(p.z)}; }
-jv operator-(const jv& a, glm::dvec3 b) { return a - constant(b); }
-
-glm::dvec3 dv(glm::vec3 v) { return glm::dvec3(v); }
-
-// The float box holding a family of points, rounded outwards.
-bounds box_of(const jv& p) {
-  bounds b;
-  for (int i = 0; i < 3; ++i) {
-    b.lo[i] = std::nextafter(float(lo(p[i].v)), -INFINITY);
-    b.hi[i] = std::nextafter(float(hi(p[i].v)), INFINITY);
-  }
-  return b;
-}
-
-// The box of points that lie on the plane n.p = c, tightened by the plane: each coordinate
-// is also bounded through the others. Affine forms of o + t d leave a flat family's box
-// centimetres thick, touching whatever stands just behind the surface (a canvas' frame).
-bounds box_on_plane(const jv& p, glm::dvec3 n, double c) {
-  bounds b = box_of(p);
-  for (int i = 0; i < 3; ++i) {
-    if (std::fabs(n[i]) < 1e-9) continue;
-    double lo_s = c, hi_s = c;  // c - sum_{j != i} n_j p_j
-    for (int j = 0; j < 3; ++j) {
-      if (j == i) continue;
-      double a = n[j] * double(b.lo[j]), z = n[j] * double(b.hi[j]);
-      lo_s -= std::max(a, z), hi_s -= std::min(a, z);
-    }
-    double v0 = lo_s / n[i], v1 = hi_s / n[i];
-    if (v0 > v1) std::swap(v0, v1);
-    const double pad = 1e-6 * (std::fabs(v0) + std::fabs(v1)) + 1e-9;
-    b.lo[i] = std::max(b.lo[i], std::nextafter(float(v0 - pad), -INFINITY));
-    b.hi[i] = std::min(b.hi[i], std::nextafter(float(v1 + pad), INFINITY));
-  }
-  return b;
-}
-
-bool finite_box(const bounds& b) {
-  for (int i = 0; i < 3; ++i)
-    if (!std::isfinite(b.lo[i]) || !std::isfinite(b.hi[i])) return false;
-  return true;
-}
-
-bool positive(const djet& x) { return lo(x.v) > 0; }
-bool negative(const djet& x) { return hi(x.v) < 0; }
 
 // Can a segment leaving primitive q's surface (towards its facing side) meet q again?
 // Never for a plane; never for a convex solid left from the outside. An open cone is the
@@ -117,12 +34,6 @@ bool cannot_reenter(shape_kind k, bool from_outside, bool patch) {
   return (k == shape_kind::sphere || k == shape_kind::box || k == shape_kind::cone) && from_outside;
 }
 
-struct surface_family {
-  djet t;
-  jv p, ng;            // hit points; outward geometric normals
-  bounds box;          // holds every hit point (tighter than p's range on planes)
-  bool from_outside = true;  // spheres, boxes, cones: every ray arrives from outside the solid
-};
 
 struct evaluator {
   const world& w;
@@ -227,261 +138,6 @@ struct evaluator {
     return shaft_empty(a, b, skip_a, skip_b) ? true : reject(cell_reason::blocked);
   }
 
-  // The family o + t d hits primitive `prim` at its first surface with t > 0, for every ray
-  // of the cell (else the cell has a gap or changes sheet).
-  // span, when given, is the family's unnormalized direction (d = span / |span|).
-  bool intersect(int prim, const jv& o, const jv& d, const jv* span, surface_family& s) {
-    const shape& sh = w.shapes[size_t(prim)];
-    switch (sh.kind) {
-      case shape_kind::sphere: return hit_sphere(sh.sphere, o, span ? *span : d, s);
-      case shape_kind::triangle: return hit_plane(prim, o, span ? *span : d, s);
-      case shape_kind::polygon: return hit_plane(prim, o, span ? *span : d, s);
-      case shape_kind::disk: return hit_plane(prim, o, span ? *span : d, s);
-      case shape_kind::cone: return hit_cone(sh.cone, o, span ? *span : d, s);
-      case shape_kind::box: return hit_box(sh.box, o, span ? *span : d, s);
-    }
-    return reject(cell_reason::missed);
-  }
-
-  // d need not be unit. b^2 - |d|^2 c is written by Lagrange's identity as
-  // r^2 |d|^2 - |oc x d|^2, as for cones: the difference of two small squares.
-  bool hit_sphere(const sphere_geom& g, const jv& o, const jv& d, surface_family& s) {
-    jv oc = o - dv(g.c);
-    djet b = dot(oc, d);
-    djet a = norm2(d);
-    jv cr = {oc.y * d.z - oc.z * d.y, oc.z * d.x - oc.x * d.z, oc.x * d.y - oc.y * d.x};
-    djet disc = a * (double(g.r) * double(g.r)) - dot(cr, cr);
-    if (!positive(disc)) return reject(cell_reason::missed);
-    djet sq = sqrt(disc);
-    djet t0 = (-b - sq) / a, t1 = (-b + sq) / a;
-    if (positive(t0)) s.t = t0, s.from_outside = true;
-    else if (hi(t0.v) <= 0 && positive(t1)) s.t = t1, s.from_outside = false;
-    else return reject(cell_reason::discontinuity);
-    s.p = o + d * s.t;
-    s.ng = (s.p - dv(g.c)) * (1.0 / double(g.r));
-    return true;
-  }
-
-  // d need not be unit: the point o + d t does not depend on its length, and the cell's
-  // own lines, given by the unnormalized front-to-back span, meet a plane parallel to the
-  // facepair's at points affine in (a, b, c, d), with no normalization's range to widen.
-  bool hit_plane(int prim, const jv& o, const jv& d, surface_family& s) {
-    const primitive& pr = w.sc.prims[size_t(w.info[size_t(prim)].source)];
-    glm::dvec3 n, anchor;
-    if (pr.kind == prim_kind::disk) n = dv(pr.b), anchor = dv(pr.a);
-    else n = dv(polygon_normal(w.sc, pr)), anchor = dv(w.sc.vertices[size_t(pr.first)]);
-    djet dn = dot(d, n);
-    if (!(lo(dn.v) > 0 || hi(dn.v) < 0)) return reject(cell_reason::missed);
-    s.t = (glm::dot(n, anchor) - dot(o, n)) / dn;
-    if (!positive(s.t)) return reject(cell_reason::missed);
-    s.p = o + d * s.t;
-    s.ng = constant(n);
-    s.box = box_on_plane(s.p, n, glm::dot(n, anchor));
-    if (!inside_planar(pr, s.box, n)) return reject(cell_reason::missed);
-    return true;
-  }
-
-  // Is every point of the box (which lies around the primitive's plane) inside it?
-  bool inside_planar(const primitive& pr, const bounds& b, glm::dvec3 n) {
-    if (pr.kind == prim_kind::disk) {
-      // The farthest corner from the centre must be inside the rim.
-      glm::dvec3 far_pt;
-      for (int i = 0; i < 3; ++i)
-        far_pt[i] = std::fabs(double(b.lo[i]) - pr.a[i]) > std::fabs(double(b.hi[i]) - pr.a[i]) ? b.lo[i] : b.hi[i];
-      glm::dvec3 q = far_pt - dv(pr.a);
-      q -= glm::dot(q, n) * n;
-      return glm::dot(q, q) < double(pr.r0) * double(pr.r0) * (1 - 1e-6);
-    }
-    // Polygons: project on the plane's dominant axes; the projected box must lie inside,
-    // with no edge crossing it (even-odd rule at its centre decides in or out).
-    glm::dvec3 an = glm::abs(n);
-    int drop = an.x > an.y ? (an.x > an.z ? 0 : 2) : (an.y > an.z ? 1 : 2);
-    int u = (drop + 1) % 3, v = (drop + 2) % 3;
-    double u0 = b.lo[u], u1 = b.hi[u], v0 = b.lo[v], v1 = b.hi[v];
-    double pad = 1e-6 * (std::fabs(u0) + std::fabs(u1) + std::fabs(v0) + std::fabs(v1) + 1e-30);
-    u0 -= pad, u1 += pad, v0 -= pad, v1 += pad;
-    const vec3* vt = &w.sc.vertices[size_t(pr.first)];
-    bool in = false;
-    double cu = 0.5 * (u0 + u1), cv = 0.5 * (v0 + v1);
-    for (int i = 0, j = pr.count - 1; i < pr.count; j = i++) {
-      double au = vt[j][u], av = vt[j][v], bu = vt[i][u], bv = vt[i][v];
-      if (segment_meets_rect(au, av, bu, bv, u0, u1, v0, v1)) return false;
-      if ((bv > cv) != (av > cv) && cu < au + (cv - av) * (bu - au) / (bv - av)) in = !in;
-    }
-    return in;
-  }
-
-  static bool segment_meets_rect(double au, double av, double bu, double bv, double u0, double u1, double v0,
-                                 double v1) {
-    // Liang-Barsky clip of the segment against the rectangle.
-    double t0 = 0, t1 = 1, du = bu - au, dvv = bv - av;
-    auto clip = [&](double p, double q) {
-      if (p == 0) return q >= 0;
-      double r = q / p;
-      if (p < 0) {
-        if (r > t1) return false;
-        t0 = std::max(t0, r);
-      } else {
-        if (r < t0) return false;
-        t1 = std::min(t1, r);
-      }
-      return true;
-    };
-    return clip(-du, au - u0) && clip(du, u1 - au) && clip(-dvv, av - v0) && clip(dvv, v1 - av) && t0 <= t1;
-  }
-
-  bool hit_cone(const cone_geom& g, const jv& o, const jv& d, surface_family& s) {
-    glm::dvec3 axis = dv(g.axis);
-    double k = g.k, r0 = g.r0, h = g.h;
-    jv q = o - dv(g.base);
-    djet qa = dot(q, axis), da = dot(d, axis);
-    jv qp = q - constant(axis) * qa, dp = d - constant(axis) * da;
-    djet R = qa * k + r0, S = da * k;
-    djet A = dot(dp, dp) - sqr(S);
-    djet B = 2.0 * (dot(qp, dp) - R * S);
-    if (!(lo(A.v) > 0 || hi(A.v) < 0)) return reject(cell_reason::discontinuity);
-    // B^2 - 4AC rewritten by Lagrange's identity as 4 (|R dp - S qp|^2 - |qp x dp|^2): the
-    // same value, but as the difference of two small squares instead of large correlated
-    // products, so its enclosure is tight enough to prove that a line through the middle
-    // of a column meets it (B^2 - 4AC's went negative on 5-pixel cells).
-    jv rs = dp * R - qp * S;
-    jv cr = {qp.y * dp.z - qp.z * dp.y, qp.z * dp.x - qp.x * dp.z, qp.x * dp.y - qp.y * dp.x};
-    djet disc = 4.0 * (dot(rs, rs) - dot(cr, cr));
-    if (!positive(disc)) return reject(cell_reason::missed);
-    djet sq = sqrt(disc);
-    djet ta = (-B - sq) / (2.0 * A), tb = (-B + sq) / (2.0 * A);
-    if (hi(A.v) < 0) std::swap(ta, tb);  // ta is the nearer root
-    // A root counts only a rounding margin inside or outside the end circles: a pixel whose
-    // float line lies a few ulps outside its cell may pass the rim there, and meet the same
-    // cone on its far side.
-    const double margin = rounding_margin(std::max({std::fabs(g.base.x), std::fabs(g.base.y), std::fabs(g.base.z)}) +
-                                          g.h + std::max(std::fabs(g.r0), std::fabs(g.r0 + g.k * g.h)));
-    auto valid = [&](const djet& t) {
-      djet z = qa + t * da;
-      return positive(t) && lo(z.v) > margin && hi(z.v) < h - margin;
-    };
-    auto invalid = [&](const djet& t) {
-      djet z = qa + t * da;
-      return hi(t.v) <= 0 || hi(z.v) < -margin || lo(z.v) > h + margin;
-    };
-    if (valid(ta)) s.t = ta;
-    else if (invalid(ta) && valid(tb)) s.t = tb;
-    else return reject(cell_reason::missed);
-    s.p = o + d * s.t;
-    // On the surface the radial vector's length is the radius r0 + k z, and the unit radial
-    // minus k * axis has length sqrt(1 + k^2): exact identities, no interval normalize
-    // (which would lose |n| = 1 over a wide cell).
-    jv rel = s.p - dv(g.base);
-    djet z = dot(rel, axis);
-    jv radial = rel - constant(axis) * z;
-    jv n = radial / (z * k + r0) - constant(axis) * k;
-    s.ng = n * (1.0 / std::sqrt(1.0 + k * k));  // the caller flips it for negative radii
-    s.from_outside = negative(dot(d, s.ng));       // proven for every ray, or not claimed
-    return true;
-  }
-
-  bool hit_box(const box_geom& g, const jv& o, const jv& d, surface_family& s) {
-    const glm::vec3* ax[3] = {&g.ax0, &g.ax1, &g.ax2};
-    djet nearv[3], farv[3], dl[3];
-    jv q = o - dv(g.c);
-    // Lines that may run parallel to a slab (a face seen head-on has two) can enter only
-    // through another face, whose rectangle test below bounds them along that slab's axis.
-    bool definite[3];
-    int n_definite = 0;
-    for (int i = 0; i < 3; ++i) {
-      djet ol = dot(q, dv(*ax[i]));
-      dl[i] = dot(d, dv(*ax[i]));
-      definite[i] = lo(dl[i].v) > 0 || hi(dl[i].v) < 0;
-      if (!definite[i]) continue;
-      ++n_definite;
-      djet ta = (-double(g.half[i]) - ol) / dl[i], tb = (double(g.half[i]) - ol) / dl[i];
-      if (lo(dl[i].v) > 0) nearv[i] = ta, farv[i] = tb;
-      else nearv[i] = tb, farv[i] = ta;
-    }
-    auto unique_max = [](const djet* t, int& k) {
-      for (k = 0; k < 3; ++k) {
-        bool ok = true;
-        for (int j = 0; j < 3; ++j)
-          if (j != k && !(lo(t[k].v) > hi(t[j].v))) ok = false;
-        if (ok) return true;
-      }
-      return false;
-    };
-    auto unique_min = [](const djet* t, int& k) {
-      for (k = 0; k < 3; ++k) {
-        bool ok = true;
-        for (int j = 0; j < 3; ++j)
-          if (j != k && !(hi(t[k].v) < lo(t[j].v))) ok = false;
-        if (ok) return true;
-      }
-      return false;
-    };
-    // Every line meets face k at a point inside the face's rectangle, kept a rounding margin
-    // off its edges: the pixel's line is found in the cell by float coordinates, and across
-    // an edge the normal jumps (box_face_normal).
-    const double margin = rounding_margin(std::max({std::fabs(g.c.x), std::fabs(g.c.y), std::fabs(g.c.z)}) +
-                                          std::max({g.half.x, g.half.y, g.half.z}));
-    auto within_face = [&](int k, const djet& t) {
-      const jv pk = q + d * t;
-      for (int j = 0; j < 3; ++j) {
-        if (j == k) continue;
-        const djet u = dot(pk, dv(*ax[j]));
-        if (!(hi(u.v) < double(g.half[j]) - margin && lo(u.v) > -double(g.half[j]) + margin)) return false;
-      }
-      return true;
-    };
-    // From outside: every line enters through face k when its point there lies inside the
-    // face's rectangle. Testing the point's own face coordinates keeps the correlation
-    // between the slabs' entry and exit times that comparing their separate ranges loses
-    // (which failed most cells of a box seen at a slant).
-    int k;
-    for (k = 0; k < 3; ++k)
-      if (definite[k] && positive(nearv[k]) && within_face(k, nearv[k])) break;
-    if (k == 3 && n_definite < 3) return reject(cell_reason::discontinuity);
-    double max_near_hi = std::max({hi(nearv[0].v), hi(nearv[1].v), hi(nearv[2].v)});
-    double min_far_lo = std::min({lo(farv[0].v), lo(farv[1].v), lo(farv[2].v)});
-    if (k == 3) {  // else the slabs' ranges: a unique entry face, or the eye inside the box
-      if (!(max_near_hi < min_far_lo)) return reject(cell_reason::missed);
-      if (!unique_max(nearv, k) || !positive(nearv[k]) || !within_face(k, nearv[k])) k = 3;
-    }
-    if (k < 3) {
-      s.t = nearv[k], s.from_outside = true;
-      s.ng = constant(dv(*ax[k]) * (lo(dl[k].v) > 0 ? -1.0 : 1.0));
-    } else if (max_near_hi < 0 && unique_min(farv, k) && positive(farv[k]) && within_face(k, farv[k])) {
-      s.t = farv[k], s.from_outside = false;
-      s.ng = constant(dv(*ax[k]) * (lo(dl[k].v) > 0 ? 1.0 : -1.0));
-    } else {
-      return reject(cell_reason::discontinuity);
-    }
-    s.p = o + d * s.t;
-    glm::dvec3 nk{mid(s.ng.x.v), mid(s.ng.y.v), mid(s.ng.z.v)};  // the face's outward normal, exact
-    s.box = box_on_plane(s.p, nk, glm::dot(nk, dv(g.c)) + double(g.half[k]));
-    return true;
-  }
-
-  // Interpolated patch normals: the point family must stay inside one fan triangle.
-  bool patch_normal(const primitive& pr, const jv& p, jv& ns) {
-    const vec3* v = &w.sc.vertices[size_t(pr.first)];
-    const vec3* n = &w.sc.normals[size_t(pr.first)];
-    glm::dvec3 pn = dv(polygon_normal(w.sc, pr));
-    for (int i = 1; i + 1 < pr.count; ++i) {
-      glm::dvec3 a = dv(v[0]), e1 = dv(v[i]) - a, e2 = dv(v[i + 1]) - a;
-      glm::dvec3 c1 = glm::cross(e2, pn), c2 = glm::cross(pn, e1);
-      glm::dvec3 b1 = c1 / glm::dot(e1, c1), b2 = c2 / glm::dot(e2, c2);
-      jv rel = p - a;
-      djet u = dot(rel, b1), vv = dot(rel, b2);
-      djet w0 = 1.0 - u - vv;
-      if (lo(u.v) >= 0 && lo(vv.v) >= 0 && lo(w0.v) >= 0) {
-        jv m = constant(dv(n[0])) * w0 + constant(dv(n[i])) * u + constant(dv(n[i + 1])) * vv;
-        ns = normalize(m);
-        return true;
-      }
-      bool outside = hi(u.v) < 0 || hi(vv.v) < 0 || hi(w0.v) < 0;
-      if (!outside) return reject(cell_reason::discontinuity);  // straddles a fan edge: a kink
-    }
-    return reject(cell_reason::discontinuity);
-  }
-
   // Proves that every shadow segment from the box `from` to light point `lp` meets the
   // primitive `blocker`: the shadow volume of a convex solid seen from a point is convex, so
   // its containing the 8 corners of `from` suffices.
@@ -522,7 +178,7 @@ struct evaluator {
         cross.hi[i] = std::max(cross.hi[i], std::nextafter(float(p[i]), INFINITY));
       }
     }
-    return inside_planar(pr, cross, n);
+    return inside_planar(w, pr, cross, n);
   }
 
   // An open cone blocks a segment that meets its solid frustum C when the segment can only
@@ -647,7 +303,8 @@ struct evaluator {
     }
     const int prim = w.shape_of[size_t(n.prim)];
     surface_family sf;
-    if (!intersect(prim, o, d, from < 0 ? root_span : nullptr, sf)) return false;
+    if (const cell_reason r = hit_family(w, prim, o, d, from < 0 ? root_span : nullptr, sf); r != cell_reason::valid)
+      return reject(r);
     if (sf.box.empty()) sf.box = box_of(sf.p);
     if (from < 0) root_hits = sf.box;
     if (from >= 0) {  // a secondary segment: nothing but its ends in its shaft
@@ -657,7 +314,9 @@ struct evaluator {
     const primitive& pr = w.sc.prims[size_t(n.prim)];
     if (kind == shape_kind::cone && (pr.r0 < 0 || pr.r1 < 0)) sf.ng = -sf.ng;
     jv ns = sf.ng;
-    if (pr.kind == prim_kind::patch && !patch_normal(pr, sf.p, ns)) return false;
+    if (pr.kind == prim_kind::patch) {
+      if (const cell_reason r = patch_normal(w, pr, sf.p, ns); r != cell_reason::valid) return reject(r);
+    }
     // The sign of d . n is that of span . n, which is exact for a plane's flat facepair
     // (a constant) where the normalized d spreads.
     djet dng = dot(sf.ng, from < 0 && root_span ? *root_span : d);
