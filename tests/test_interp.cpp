@@ -896,7 +896,8 @@ cell_bound shiny_floor_cell(const world& w, float f, float b, bool defer) {
 
 TEST(Predicate, ProvesAHighlightOverAWideFloorCell) {
   // Refused as non-linear before the secant forms (N.H unbounded); now proven, with a
-  // finite bound that halves when the cell does (the bound is for the cell, not a verdict).
+  // finite bound that shrinks more than fourfold when the cell is halved (it goes as the
+  // cell's width squared).
   world w = world_of(shiny_floor);
   const cell_bound wide = shiny_floor_cell(w, 0.2f, 0.3f, false);
   ASSERT_EQ(wide.reason, cell_reason::valid);
