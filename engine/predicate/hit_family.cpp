@@ -61,6 +61,33 @@ bool inside_planar(const world& w, const primitive& pr, const bounds& b, glm::dv
 
 namespace {
 
+// Every point of the family p inside a convex polygon (normal n): each edge's half-plane,
+// tested on the points themselves. The box around them (inside_planar) pokes out past an
+// edge that runs across the axes, which refused most cells of a tessellated surface's
+// slanted triangles. False for a concave polygon, or one whose points come within a
+// rounding margin of an edge.
+bool points_inside_convex(const world& w, const primitive& pr, const jv& p, glm::dvec3 n) {
+  if (pr.kind == prim_kind::disk || pr.count < 3) return false;
+  const vec3* vt = &w.sc.vertices[size_t(pr.first)];
+  const int nv = pr.count;
+  double turn = 0;  // the sign of every corner's turn about n: convex when they agree
+  for (int i = 0; i < nv; ++i) {
+    const glm::dvec3 a = dv(vt[i]), b = dv(vt[(i + 1) % nv]), c = dv(vt[(i + 2) % nv]);
+    const double t = glm::dot(glm::cross(b - a, c - b), n);
+    if (t == 0) continue;
+    if (turn == 0) turn = t;
+    else if ((t > 0) != (turn > 0)) return false;
+  }
+  if (turn == 0) return false;
+  for (int i = 0; i < nv; ++i) {
+    const glm::dvec3 a = dv(vt[i]), b = dv(vt[(i + 1) % nv]);
+    const glm::dvec3 inward = glm::cross(n, b - a) * (turn > 0 ? 1.0 : -1.0);
+    const double margin = 2e-6 * glm::length(inward) * (glm::length(a) + glm::length(b) + 1e-30);
+    if (!(lo(dot(p - a, inward).v) > margin)) return false;
+  }
+  return true;
+}
+
 // d need not be unit. b^2 - |d|^2 c is written by Lagrange's identity as
 // r^2 |d|^2 - |oc x d|^2, as for cones: the difference of two small squares.
 cell_reason hit_sphere(const sphere_geom& g, const jv& o, const jv& d, surface_family& s) {
@@ -95,7 +122,7 @@ cell_reason hit_plane(const world& w, int prim, const jv& o, const jv& d, surfac
   s.p = o + d * s.t;
   s.ng = constant(n);
   s.box = box_on_plane(s.p, n, glm::dot(n, anchor));
-  if (!inside_planar(w, pr, s.box, n)) return cell_reason::missed;
+  if (!points_inside_convex(w, pr, s.p, n) && !inside_planar(w, pr, s.box, n)) return cell_reason::missed;
   return cell_reason::valid;
 }
 
