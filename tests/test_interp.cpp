@@ -117,6 +117,31 @@ TEST(Linetree, LineCoordinatesRoundTrip) {
   EXPECT_TRUE(in_front(fp, o));
 }
 
+TEST(Linetree, LineCoordinatesAreHalfAnUlpFromTheExactLineHoweverFarTheEye) {
+  // A pixel's float ray, its eye up to 10^5 object sizes away: the intercepts line_coords
+  // returns are the exact line's, rounded once (in float, the eye's own rounding entered
+  // at its magnitude, far beyond the 16 ulps the predicate widens each cell by).
+  facepair fp = make_facepair(bounds{vec3(-1, -2, -3), vec3(1, 2, 3)}, 5);  // axis z, negative
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<float> u(-1, 1);
+  for (float far : {10.0f, 1e3f, 1e5f}) {
+    for (int k = 0; k < 200; ++k) {
+      const glm::vec3 o(far * u(rng), far * u(rng), far * (1.5f + u(rng) * 0.4f));
+      const glm::vec3 target(u(rng), 2 * u(rng), 3 * u(rng));
+      const glm::vec3 d = glm::normalize(target - o);
+      if (!(d.z < -0.1f)) continue;
+      float x[4];
+      line_coords(fp, o, d, x);
+      const long double tf = ((long double)fp.front - o.z) / d.z, tb = ((long double)fp.back - o.z) / d.z;
+      const long double exact[4] = {o.x + tf * d.x, o.y + tf * d.y, o.x + tb * d.x, o.y + tb * d.y};
+      for (int i = 0; i < 4; ++i) {
+        const long double ulp = std::nextafter(std::fabs(float(exact[i])), INFINITY) - std::fabs(float(exact[i]));
+        ASSERT_LE(std::fabs((long double)x[i] - exact[i]), ulp) << "eye at " << far << ", coordinate " << i;
+      }
+    }
+  }
+}
+
 TEST(Linetree, FlatObjectsHoldTheirLinesInTheirOwnFacepair) {
   using test::uniform;
   const bounds floor{vec3(-6, 0, -16), vec3(6, 0, 3)};  // the art room's floor

@@ -62,14 +62,17 @@ inline int facepair_for(int flat, glm::vec3 d) {
 // behind it, widened by flat_slope times each plane's distance from the surface.
 facepair make_facepair(const bounds& box, int index);
 
-// Intercepts of the line o + t d with the facepair's planes.
+// Intercepts of the line o + t d with the facepair's planes. In double, rounded once: a
+// pixel's coordinates are then within half an ulp of its float ray's exact line, however far
+// the eye stands from the object (in float, o's rounding entered at the eye's magnitude),
+// which the predicate's widening of each cell by 16 ulps covers (bound_cell).
 inline void line_coords(const facepair& f, glm::vec3 o, glm::vec3 d, float abcd[4]) {
-  float tf = (f.front - o[f.axis]) / d[f.axis];
-  float tb = (f.back - o[f.axis]) / d[f.axis];
-  abcd[0] = o[f.u] + tf * d[f.u];
-  abcd[1] = o[f.v] + tf * d[f.v];
-  abcd[2] = o[f.u] + tb * d[f.u];
-  abcd[3] = o[f.v] + tb * d[f.v];
+  const double oa = o[f.axis], da = d[f.axis];
+  const double tf = (double(f.front) - oa) / da, tb = (double(f.back) - oa) / da;
+  abcd[0] = float(double(o[f.u]) + tf * double(d[f.u]));
+  abcd[1] = float(double(o[f.v]) + tf * double(d[f.v]));
+  abcd[2] = float(double(o[f.u]) + tb * double(d[f.u]));
+  abcd[3] = float(double(o[f.v]) + tb * double(d[f.v]));
 }
 
 // The line through (a, b) on the front plane and (c, d) on the back plane.

@@ -482,11 +482,10 @@ cell_bound bound_cell(const cell_query& q) {
   evaluator ev{w, *q.tree};  // the rest by name: a positional list silently shifts when members move
   ev.deferred = q.deferred, ev.deferred_rays = q.deferred_rays, ev.allow_defer = q.allow_defer;
   for (int i = 0; i < 4; ++i) ev.cell_width[i] = double(q.hi[i]) - double(q.lo[i]);
-  // A pixel's line is found in the cell by float coordinates (line_coords: o + t d rounded
-  // at the magnitudes of the eye and the coordinates), a few ulps from its exact line's, so
-  // the jets range over the cell widened by 16 ulps of those magnitudes, the scene's
-  // standing for the eye's (as in the hit tests' rounding margins). Loose enclosures once
-  // covered this by accident; tight ones need it said (a box's edge within rounding).
+  // A pixel's line is found in the cell by float coordinates (line_coords: computed in
+  // double, rounded once), half an ulp from its exact line's, so the jets range over the
+  // cell widened by 16 ulps of the scene's and the coordinates' magnitudes. Loose enclosures
+  // once covered this by accident; tight ones need it said (a box's edge within rounding).
   const double magnitude = 2 * std::max(glm::length(dv(w.box.lo)), glm::length(dv(w.box.hi)));
   double lo4[4], hi4[4];
   for (int i = 0; i < 4; ++i) {
