@@ -619,6 +619,40 @@ INSTANTIATE_TEST_SUITE_P(
         face_case{"box_from_inside", "box -2 -2 -2 2 2 2\n", "from 0 0 0\nat 0 0 -1\n", -2, in_box_face, true}),
     [](const testing::TestParamInfo<face_case>& i) { return std::string(i.param.name); });
 
+// --- a far eye ---------------------------------------------------------------------------------
+
+TEST(Shade, AnEyeFarOutsideTheSceneSeesNoShadowAcne) {
+  // A lit sphere with nothing else in the scene, seen through a telephoto lens from 10^5
+  // units away. A float hit found from there rounds at the eye's distance (about 4e-3), past
+  // the spec's shadow-ray offset delta (1e-4 of the 3.5-unit diagonal): shadow rays that
+  // started inside the sphere darkened pixels at random. Eye rays now start near the scene.
+  world w = world_from_text(
+      "v\nfrom 50000 40000 86600\nat 0 0 0\nup 0 1 0\nangle 0.003\nresolution 40 30\n"
+      "l 1 5 2\n"
+      "f 0.8 0.8 0.8 1 0 0 0 1\n"
+      "s 0 0 0 1\n");
+  camera cam = make_camera(w.sc.view, 40, 30);
+  workers pool(2);
+  frame_params fp;
+  frame_result fr = render_frame(pool, w, cam, fp);
+  const dcam dc = spec_camera(w.sc.view, 40, 30);
+  const std::vector<dlight> lights{{dvec3(1, 5, 2), dvec3(w.light_power[0])}};
+  int on_sphere = 0;
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      const dvec3 d = spec_dir(dc, x, y);
+      double t, margin;
+      if (!sphere_hit(dc.o, d, dvec3(0), 1, t, margin) || margin < 0.05) continue;  // not near the rim
+      ++on_sphere;
+      const dvec3 p = dc.o + t * d;
+      const dvec3 want = local_shade(p, glm::normalize(p), d, dvec3(0.8), 1, 0, 0, dvec3(w.ambient), lights);
+      // A float eye ray from 10^5 away is a few 1e-3 off the double one, so 1% (a pixel
+      // left to the ambient term alone would read 20-40% low).
+      EXPECT_TRUE(near_rel(fr.img.at(x, y), want, 1e-2)) << x << " " << y;
+    }
+  EXPECT_GT(on_sphere, 50);
+}
+
 // --- 8. the depth limit ------------------------------------------------------------------------
 
 TEST(Shade, TwoFacingMirrorsStopAtDepthFive) {

@@ -28,7 +28,7 @@ glm::vec3 cell_colour(const lt_node& n) {
 // The leaf of `prim`'s linetree holding the eye ray (looked up, never built), or null when
 // the ray's first hit is another object or lies outside the tree.
 const lt_node* leaf_of(const world& w, const camera& cam, linetree_set& trees, int prim, int x, int y) {
-  const ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
+  const ray r = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
   hit h;
   if (!closest_hit(w, r, std::numeric_limits<float>::infinity(), h) || h.prim != prim) return nullptr;
   const linetree& lt = trees.tree_for(prim, r.d);
@@ -48,7 +48,7 @@ void paint_cells(workers& pool, const world& w, const camera& cam, linetree_set&
   const int px = std::clamp(int(fx * float(width)), 0, width - 1);
   const int py = std::clamp(int(fy * float(height)), 0, height - 1);
   hit h;
-  const ray r = make_ray(cam.origin, eye_direction(cam, float(px), float(py)));
+  const ray r = eye_ray(w, cam, eye_direction(cam, float(px), float(py)));
   const int picked = closest_hit(w, r, std::numeric_limits<float>::infinity(), h) ? h.prim : -1;
   leaves.assign(size_t(width) * size_t(height), nullptr);
   if (picked >= 0) {

@@ -48,7 +48,7 @@ std::uint64_t shade_rows_reuse(const world& w, const camera& cam, const reuse_pi
         ++reused;
         continue;
       }
-      ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
+      ray r = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
       ++st.counts.eye;
       hit h;
       if (closest_hit(w, r, std::numeric_limits<float>::infinity(), h)) {

@@ -307,7 +307,7 @@ pixel_line find_pixel_line(const interp_frame& f, int x, int y, trace_state& st,
   const world& w = *f.w;
   const camera& cam = *f.cam;
   pixel_line pl;
-  pl.r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
+  pl.r = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
   ++st.counts.eye;
   if (!closest_hit(w, pl.r, std::numeric_limits<float>::infinity(), pl.h)) {
     out.L = w.background;  // the visibility ray is the whole Whitted computation here

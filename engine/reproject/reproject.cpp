@@ -158,7 +158,7 @@ bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell
   // Textures are looked up, and deferred rays leave, at the pixel's own hit: the trusted
   // cell's object is the first hit along the eye ray, so the object alone gives the point
   // closest_hit would.
-  const ray r = make_ray(cam.origin, d);
+  const ray r = eye_ray(w, cam, d);
   float t = 0;
   if ((trust.count || c.ip->textured() || c.ip->deferred || c.ip->deferred_rays) &&
       !hit_shape(w.shapes[size_t(c.prim)], w.polys, r, std::numeric_limits<float>::infinity(), t))

@@ -9,7 +9,7 @@ void shade_rows_base(const world& w, const camera& cam, int y0, int y1, image& o
   if (trees) st.tree = &scratch;
   for (int y = y0; y < y1; ++y) {
     for (int x = 0; x < cam.width; ++x) {
-      ray r = make_ray(cam.origin, eye_direction(cam, float(x), float(y)));
+      ray r = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
       out.at(x, y) = trace_eye(w, r, st);
       if (trees) trees->append(scratch);
     }
