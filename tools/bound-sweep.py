@@ -22,6 +22,8 @@ deleted). Exit status 1 if any run had pixels over eps or the renderer exited no
         --seed 1 --exe build/epsray --keep-dir /tmp/sweep/keep
 
 `--flags "..."` adds epsray flags to every walk (e.g. `--reproject osmesa --pipeline`).
+`--far-eyes F` pushes a share F of the walks 10^2-10^5 times farther back through a
+telephoto lens.
 """
 import argparse, json, math, os, random, subprocess, sys, time
 
@@ -124,6 +126,19 @@ def make_walk(rng, view, pts, frames):
     return out, kind
 
 
+def push_back(walk, rng):
+    """The same walk through a telephoto lens from 10^2 to 10^5 times as far back along each
+    frame's view, the view angle shrunk to frame the same region at the target (an eye
+    thousands of scene sizes away once broke the float reference: README, far eyes)."""
+    s = 10 ** rng.uniform(2, 5)
+    out = []
+    for fr, at, up, ang in walk:
+        fwd = sub(at, fr)
+        half = math.radians(ang) / 2
+        out.append((sub(at, mul(fwd, s)), at, up, math.degrees(2 * math.atan(math.tan(half) / s))))
+    return out
+
+
 def write_path(fn, walk, note):
     with open(fn, "w") as f:
         f.write("# bound-sweep walk (%s): from  at  up  angle\n" % note)
@@ -145,15 +160,21 @@ def main():
     ap.add_argument("--timeout", type=float, default=900)
     ap.add_argument("--keep-dir", default="/tmp/bound-sweep")
     ap.add_argument("--flags", default="", help="more epsray flags for every walk, e.g. '--reproject osmesa --pipeline'")
+    ap.add_argument("--far-eyes", type=float, default=0.0,
+                    help="share of walks pushed 10^2-10^5 times farther back through a telephoto lens "
+                         "(drawn from a second generator, so the walks of a seed are otherwise unchanged)")
     a = ap.parse_args()
     os.makedirs(a.keep_dir, exist_ok=True)
     rng, t0 = random.Random(a.seed), time.time()
+    far_rng = random.Random(a.seed * 7919 + 1)
     nruns = nframes = 0; bad, worst = [], {}
     for scene in a.scenes:
         view, pts = parse_scene(scene)
         base = os.path.splitext(os.path.basename(scene))[0]
         for w in range(a.walks):
             walk, kind = make_walk(rng, view, pts, a.frames)
+            if a.far_eyes > 0 and far_rng.random() < a.far_eyes:
+                walk, kind = push_back(walk, far_rng), "tele-" + kind
             pf = os.path.abspath(os.path.join(a.keep_dir, "%s-s%d-w%d.path" % (base, a.seed, w)))
             write_path(pf, walk, "%s, seed %d, walk %d, start %s" % (scene, a.seed, w, kind))
             keep = False
