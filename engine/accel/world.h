@@ -1,6 +1,7 @@
 // Everything the tracer needs, built once from a parsed scene: shapes in BVH leaf order,
 // their materials, the lights with the SPD convention applied, and the spec's delta.
 #pragma once
+#include <cmath>
 #include <vector>
 
 #include "accel/bvh.h"
@@ -50,10 +51,10 @@ struct hit {
 // rounds at the eye's distance, past the spec's secondary-ray offset delta (the reference
 // itself showed shadow acne 10^4 scene sizes away). Elsewhere the ray is the eye's own.
 inline ray eye_ray(const world& w, const camera& cam, vec3 d) {
-  const glm::dvec3 o(cam.origin), dd(d), oc = glm::dvec3(w.box.centre()) - o;
-  const double reach = 2.0 * double(glm::length(w.box.extent()));
-  if (!(glm::dot(oc, oc) > 64.0 * reach * reach)) return make_ray(cam.origin, d);
-  const double t0 = glm::dot(oc, dd) - reach;
+  const glm::dvec3 o(cam.origin), dd(d), oc = glm::dvec3(w.box.centre()) - o, ext(w.box.extent());
+  const double diag2 = glm::dot(ext, ext);  // squared: no square root on every pixel's way
+  if (!(glm::dot(oc, oc) > 256.0 * diag2)) return make_ray(cam.origin, d);
+  const double t0 = glm::dot(oc, dd) - 2.0 * std::sqrt(diag2);
   if (!(t0 > 0)) return make_ray(cam.origin, d);
   return make_ray(vec3(o + t0 * dd), d);
 }
