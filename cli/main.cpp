@@ -84,7 +84,7 @@ int run_render(const cli_options& o) {
   }
   if (!o.quiet) {
     std::printf("%s: %dx%d, %zu primitives, %zu lights, mode %s, %d threads\n", o.scene.c_str(), width, height,
-                w.shapes.size(), w.light_pos.size(), mode_name(o.mode), threads);
+                w.scene_prims, w.light_pos.size(), mode_name(o.mode), threads);
     std::printf("frame %.1f ms (total %.1f ms with BVH build); rays: eye %llu reflect %llu refract %llu shadow %llu\n",
                 fr.ms, total_ms, (unsigned long long)fr.rays.eye, (unsigned long long)fr.rays.reflect,
                 (unsigned long long)fr.rays.refract, (unsigned long long)fr.rays.shadow);

@@ -97,7 +97,7 @@ struct brute_hit {
 
 brute_hit brute_closest(const world& w, const ray& r) {
   brute_hit b;
-  for (size_t i = 0; i < w.shapes.size(); ++i) {
+  for (size_t i = 0; i < w.scene_prims; ++i) {
     float t;
     if (hit_shape(w.shapes[i], w.polys, r, b.t, t)) b.found = true, b.t = t, b.prim = int(i);
   }
@@ -105,7 +105,7 @@ brute_hit brute_closest(const world& w, const ray& r) {
 }
 
 bool brute_blocked(const world& w, const ray& r, float tmax) {
-  for (size_t i = 0; i < w.shapes.size(); ++i) {
+  for (size_t i = 0; i < w.scene_prims; ++i) {
     float t;
     if (hit_shape(w.shapes[i], w.polys, r, tmax, t)) return true;
   }
@@ -125,7 +125,7 @@ class BvhSoup : public testing::TestWithParam<soup_case> {};
 TEST_P(BvhSoup, ClosestHitAndShadowsMatchBruteForce) {
   const soup_case sc = GetParam();
   const world w = make_world(make_soup(sc.n, sc.kind, 1234u + unsigned(sc.n)));
-  ASSERT_EQ(int(w.shapes.size()), sc.n);
+  ASSERT_EQ(int(w.scene_prims), sc.n);
   rng_t g(99u + unsigned(sc.n));
   int hits = 0, mismatches = 0, blocker_mismatches = 0, ties = 0;
   for (int k = 0; k < sc.rays; ++k) {
@@ -317,7 +317,7 @@ TEST(BvhWorld, RaysGrazingBoundingBoxEdgesFindWhatBruteForceFinds) {
   rng_t g(5);
   int missed = 0, blocked_rays = 0;
   for (int k = 0; k < 100000; ++k) {
-    const size_t id = g() % w.shapes.size();
+    const size_t id = g() % w.scene_prims;
     const bounds& b = w.prim_bounds[id];
     // A point on an edge of the box (two coordinates at a face, the third anywhere between)
     // or one ulp outside it: a shape whose bounds round inwards is hit there.

@@ -285,7 +285,7 @@ TEST(Reprojection, CellIsTrustedWithTheOccludersItsPixelsMustTest) {
   render_frame(pool, w, cam, p);
   const glm::vec3 target{-2.5f, 1.0f, -1.0f};
   int wall = -1;
-  for (size_t i = 0; i < w.shapes.size(); ++i)
+  for (size_t i = 0; i < w.scene_prims; ++i)
     if (w.shapes[i].kind != shape_kind::sphere) wall = int(i);
   ASSERT_GE(wall, 0);
   const glm::vec3 d = glm::normalize(target - cam.origin);
@@ -309,7 +309,7 @@ TEST(Reprojection, CellIsTrustedWithTheOccludersItsPixelsMustTest) {
   ASSERT_TRUE(hidden.ok);
   ASSERT_EQ(hidden.count, 1);
   int sphere_id = -1;
-  for (size_t i = 0; i < w.shapes.size(); ++i)
+  for (size_t i = 0; i < w.scene_prims; ++i)
     if (w.shapes[i].kind == shape_kind::sphere) sphere_id = int(i);
   EXPECT_EQ(hidden.candidates[0], sphere_id);
 }
@@ -359,7 +359,7 @@ TEST(Reprojection, RowRunsOwnThePixelsThePerPixelTestWould) {
       for (int x = rects[i].x0; x < rects[i].x1; ++x) {
         float x4[4];
         std::int32_t& o = brute[size_t(y) * width + size_t(x)];
-        if (o < 0 && eye_line_in_cell(cam, cells[i], x, y, x4)) o = std::int32_t(i);
+        if (o < 0 && eye_line_owned(cam, cells[i], trusted[i], x, y, x4)) o = std::int32_t(i);
       }
   }
   size_t owned = 0, differ = 0;

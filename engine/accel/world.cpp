@@ -38,6 +38,54 @@ void add_references(const scene& s, int src, std::vector<bounds>& boxes, std::ve
   owner.push_back(src);
 }
 
+// Each face of an axis-aligned, opaque, untextured box gets a rectangle of its own, in its
+// plane and wider than it on every side (face_prims): pixels that meet the face look it up
+// in that rectangle's linetree, whose cells may straddle the box's edges. A point of the
+// face's plane off the face shades as a point of the face would (the same normal and
+// material; the box lies behind that plane, so it blocks none of the point's shadow or
+// reflected rays), so cells along an edge interpolate one smooth function where the box's
+// own cells met two faces or missed. Rectangles are appended after the scene's primitives.
+void add_face_prims(scene& s, world& w) {
+  const size_t n = w.shapes.size();
+  w.face_prims.assign(6 * n, -1);
+  w.face_owner.assign(n, -1);
+  for (size_t id = 0; id < n; ++id) {
+    const primitive box = s.prims[size_t(w.info[id].source)];
+    if (box.kind != prim_kind::box || box.frame != glm::mat3(1.0f)) continue;
+    const material& m = s.materials[size_t(box.material)];
+    if (m.texture >= 0 || m.t > 0) continue;
+    const vec3 half = box.b;
+    for (int k = 0; k < 3; ++k) {
+      const int u = (k + 1) % 3, v = (k + 2) % 3;
+      if (!(half[u] > 0 && half[v] > 0)) continue;
+      // Wide enough that a cell along an edge, a dozen pixels across, stays on the rectangle.
+      const float grow = std::max(std::min(half[u], half[v]), 0.2f * std::max(half[u], half[v]));
+      for (int side = 0; side < 2; ++side) {
+        const float sgn = side ? -1.0f : 1.0f;
+        primitive r;
+        r.kind = prim_kind::polygon, r.material = box.material, r.line = box.line;
+        r.first = int(s.vertices.size()), r.count = 4;
+        // Counter-clockwise about the outward normal sgn e_k (e_u x e_v = e_k).
+        const float cu[4] = {-1, 1, 1, -1}, cv[4] = {-1, -1, 1, 1};
+        for (int i = 0; i < 4; ++i) {
+          const int j = side ? 3 - i : i;
+          vec3 p = box.a;
+          p[k] += sgn * half[k];
+          p[u] += cu[j] * (half[u] + grow), p[v] += cv[j] * (half[v] + grow);
+          s.vertices.push_back(p);
+        }
+        const int src = int(s.prims.size());
+        s.prims.push_back(r);
+        w.face_prims[6 * id + size_t(2 * k + side)] = int(w.shapes.size());
+        w.face_owner.push_back(int(id));
+        w.shapes.push_back(make_shape(s, r, w.polys));
+        w.info.push_back({r.material, src, false});
+        w.prim_bounds.push_back(primitive_bounds(s, r));
+      }
+    }
+  }
+}
+
 }  // namespace
 
 world make_world(scene s) {
@@ -69,6 +117,8 @@ world make_world(scene s) {
     w.slot_prim.push_back(std::uint32_t(id_of[size_t(src)]));
     w.slot_bounds.push_back(boxes[size_t(ref)]);
   }
+  w.scene_prims = w.shapes.size();
+  add_face_prims(s, w);
   w.shape_of.resize(s.prims.size());
   for (size_t i = 0; i < w.info.size(); ++i) w.shape_of[size_t(w.info[i].source)] = int(i);
   for (const light& l : s.lights) {

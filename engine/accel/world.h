@@ -34,6 +34,12 @@ struct world {
   std::vector<texture_range> texture_ranges;  // per scene texture
   std::vector<uv_frame> uv_frames;  // per primitive id: polygons, patches and disks (surface_uv)
   vec3 ambient{0}, background{0};
+  // Box faces' own linetree objects (box_faces.h): primitive ids from scene_prims on are
+  // rectangles in the planes of axis-aligned opaque boxes' faces, larger than the faces and
+  // in no BVH: no ray ever hits them, only linetrees are keyed by them.
+  size_t scene_prims = 0;            // primitives in the BVH: ids [0, scene_prims)
+  std::vector<std::int32_t> face_prims;  // 6 per scene primitive (2 axis + (outward normal < 0)), -1: none
+  std::vector<std::int32_t> face_owner;  // per primitive id: the box of a face rectangle, else -1
   bounds box;        // tight bounds of the primitives
   float delta = 0;   // 1e-4 of the box diagonal: origin offset of secondary rays
 };
@@ -57,6 +63,22 @@ inline ray eye_ray(const world& w, const camera& cam, vec3 d) {
   const double t0 = glm::dot(oc, dd) - 2.0 * std::sqrt(diag2);
   if (!(t0 > 0)) return make_ray(cam.origin, d);
   return make_ray(vec3(o + t0 * dd), d);
+}
+
+// The face rectangle (world::face_prims) whose linetree holds the eye ray r that hits
+// primitive prim, or -1: the face box_face_normal gives, as the reference shades it.
+inline int face_prim_of(const world& w, int prim, const ray& r) {
+  if (size_t(prim) >= w.scene_prims || w.shapes[size_t(prim)].kind != shape_kind::box) return -1;
+  const std::int32_t* f = &w.face_prims[6 * size_t(prim)];
+  if (f[0] < 0 && f[2] < 0 && f[4] < 0) return -1;
+  const vec3 n = box_face_normal(w.shapes[size_t(prim)].box, r);  // +-e_k: the box is axis-aligned
+  const int k = n.x != 0 ? 0 : (n.y != 0 ? 1 : 2);
+  return f[2 * k + (n[k] < 0 ? 1 : 0)];
+}
+
+// The primitive in the BVH that primitive id stands for: a face rectangle's box, else id.
+inline int scene_prim_of(const world& w, int id) {
+  return size_t(id) < w.scene_prims ? id : w.face_owner[size_t(id)];
 }
 
 // Nearest hit with 0 < t < tmax.

@@ -26,10 +26,10 @@ pixel_result shade_pixel_lightfield(const interp_frame& f, int depth, int x, int
   }
   const interpolant* ip = node->interp.load(std::memory_order_acquire);
   if (!ip)
-    ip = publish(*node, build_interpolant(w, h.prim, lt.fp, *node, false, false, f.trees->samples(), st, scratch, false),
+    ip = publish(*node, build_interpolant(w, pl.prim, lt.fp, *node, false, false, f.trees->samples(), st, scratch, false),
                  f.trees->node_bytes());
   mark_used(*node, f.trees->frame());
-  if (ip->reason == cell_reason::valid && interpolate_line(w, h.prim, *node, *ip, x4, f.p.eps, r, h.t, st, out.L)) {
+  if (ip->reason == cell_reason::valid && interpolate_line(w, pl.prim, *node, *ip, x4, f.p.eps, r, h.t, st, out.L)) {
     out.path = pixel_path::interp, out.reason = pixel_reason::interpolated;
     return out;
   }

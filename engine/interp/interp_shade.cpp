@@ -316,7 +316,9 @@ pixel_line find_pixel_line(const interp_frame& f, int x, int y, trace_state& st,
   // --eps 0 is exactly the base tracer; a line whose first hit is not the eye ray's, or
   // that rounding puts outside the root, is traced.
   if (f.p.eps > 0 && !(f.small && f.small[pl.h.prim])) {
-    linetree& lt = f.trees->tree_for(pl.h.prim, pl.r.d);
+    const int face = face_prim_of(w, pl.h.prim, pl.r);
+    pl.prim = face >= 0 ? face : pl.h.prim;
+    linetree& lt = f.trees->tree_for(pl.prim, pl.r.d);
     line_coords(lt.fp, pl.r.o, pl.r.d, pl.x4);
     if (same_first_hit(w.shapes[size_t(pl.h.prim)], lt.fp, cam.origin) && holds(lt.root, pl.x4)) {
       pl.lt = &lt;
@@ -367,7 +369,7 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
       const bool defer = pixels < f.p.defer_pixels;
       const std::uint64_t b0 = cycle_now();
       ip = publish(*node,
-                   build_interpolant(w, h.prim, lt.fp, *node, terminal, defer, f.trees->samples(), st, scratch, true),
+                   build_interpolant(w, pl.prim, lt.fp, *node, terminal, defer, f.trees->samples(), st, scratch, true),
                    f.trees->node_bytes());
       st.build_ticks += cycle_now() - b0;
     }
@@ -388,11 +390,11 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
   mark_used(*node, f.trees->frame());
   if (ip->reason == cell_reason::valid) {
     glm::vec3 La;
-    if (interpolate_line(w, h.prim, *node, *ip, x4, f.p.eps, r, h.t, st, La)) {
+    if (interpolate_line(w, pl.prim, *node, *ip, x4, f.p.eps, r, h.t, st, La)) {
       out.L = La;
       out.path = pixel_path::interp;
       out.reason = pixel_reason::interpolated;
-      out.cell = cell_ref{&lt, node, ip, h.prim};
+      out.cell = cell_ref{&lt, node, ip, pl.prim};
       return out;
     }
     out.reason = pixel_reason::nonlinear;

@@ -100,6 +100,7 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
 struct pixel_line {
   ray r;
   hit h;
+  int prim = -1;  // whose linetree lt is: h.prim, or the face rectangle of a box's face
   linetree* lt = nullptr;
   float x4[4] = {0, 0, 0, 0};
 };

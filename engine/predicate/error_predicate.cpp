@@ -322,6 +322,11 @@ struct evaluator {
     djet dng = dot(sf.ng, from < 0 && root_span ? *root_span : d);
     bool entering = n.entering != 0;
     if (entering ? !negative(dng) : !positive(dng)) return reject(cell_reason::discontinuity);
+    // What rays leaving the surface may skip in their shafts: a box face's rectangle
+    // (world::face_prims) met from outside is left away from the box behind its plane, so
+    // they may skip the box itself. (Lines from the inside never hold a pixel: its eye ray
+    // enters the box by the face.)
+    const int self = entering ? scene_prim_of(w, prim) : prim;
     jv nf = entering ? ns : -ns;
 
     const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
@@ -375,7 +380,7 @@ struct evaluator {
         continue;
       }
       bounds lbox{w.light_pos[j], w.light_pos[j]};
-      const int skip = cannot_reenter(kind, sf.from_outside, pr.kind == prim_kind::patch) ? prim : -1;
+      const int skip = cannot_reenter(kind, sf.from_outside, pr.kind == prim_kind::patch) ? self : -1;
       if (deferrable ? !shaft_empty(above_box, lbox, skip, -1) : !shaft_clear(above_box, lbox, skip, -1)) {
         if (!defer_or(cell_reason::blocked)) return false;
         continue;
@@ -409,7 +414,7 @@ struct evaluator {
         if (!(deferred >> root_lights[k].j & 1)) add_light(root_lights[k], acc, split ? tf : nullptr);
     }
     const bool leave_ok = cannot_reenter(kind, sf.from_outside, pr.kind == prim_kind::patch);
-    if (from < 0 && deferred) list_shadow_candidates(above_box, leave_ok ? prim : -1);
+    if (from < 0 && deferred) list_shadow_candidates(above_box, leave_ok ? self : -1);
     // The eye ray's reflected and transmitted subtrees may be left to per-pixel rays (where
     // allowed): those the corners disagree on are, and so is any this cell cannot bound.
     const bool root = from < 0;
@@ -432,7 +437,7 @@ struct evaluator {
       const bool ok = child_or_defer(deferred_reflect, double(m.ks), [&] {
         jv rd = d - nf * (2.0 * dot(d, nf));
         djet Lr[3];
-        if (!radiance(n.reflect, above, rd, depth + 1, prim, leave_ok, Lr, nullptr)) return false;
+        if (!radiance(n.reflect, above, rd, depth + 1, self, leave_ok, Lr, nullptr)) return false;
         for (int c = 0; c < 3; ++c) acc[c] = acc[c] + Lr[c] * double(m.ks);
         return true;
       });
@@ -447,7 +452,7 @@ struct evaluator {
         if (n.tir) {
           if (!(hi(k.v) < 0)) return reject(cell_reason::discontinuity);
           jv rd = d - nf * (2.0 * dot(d, nf));
-          if (!radiance(n.refract, above, rd, depth + 1, prim, leave_ok, Lt, nullptr)) return false;
+          if (!radiance(n.refract, above, rd, depth + 1, self, leave_ok, Lt, nullptr)) return false;
         } else {
           if (!positive(k)) return reject(cell_reason::discontinuity);
           jv td = d * eta + nf * (ci * eta - sqrt(k));
@@ -459,7 +464,7 @@ struct evaluator {
           bool exits_self = child.prim >= 0 && w.shape_of[size_t(child.prim)] == prim &&
                             (kind == shape_kind::sphere || kind == shape_kind::box);
           bool through_ok = planar || exits_self;
-          if (!radiance(n.refract, below, td, depth + 1, prim, through_ok, Lt, nullptr)) return false;
+          if (!radiance(n.refract, below, td, depth + 1, self, through_ok, Lt, nullptr)) return false;
         }
         for (int c = 0; c < 3; ++c) acc[c] = acc[c] + Lt[c] * double(m.t);
         return true;

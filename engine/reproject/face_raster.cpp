@@ -78,7 +78,7 @@ double area(const poly2& p) {
 // The face's eye lines within the view, as at most two convex polygons in window
 // coordinates: the part of the face in front of the eye, and the part behind it mirrored
 // through the eye (a line meets a plane behind the eye too, and the lookup takes it).
-int face_parts(const camera& cam, const glm::dvec3 corner[4], poly2 out[2]) {
+int face_parts(const camera& cam, const glm::dvec3 corner[4], poly2 out[2], bool front_only = false) {
   const glm::dvec3 r(cam.r), u(cam.u), w(cam.w), o(cam.origin);
   const double step = double(cam.step);
   // The view's frustum, two pixels wider on each side than the pixel centres need.
@@ -87,6 +87,7 @@ int face_parts(const camera& cam, const glm::dvec3 corner[4], poly2 out[2]) {
   for (int k = 0; k < 4; ++k) scale = std::max(scale, glm::length(corner[k] - o));
   int parts = 0;
   for (double s : {1.0, -1.0}) {
+    if (front_only && s < 0) break;
     poly3 p;
     p.n = 4;
     for (int k = 0; k < 4; ++k) p.v[k] = s * (corner[k] - o);
@@ -123,19 +124,27 @@ poly2 overlap(const poly2& a, const poly2& b) {
 }  // namespace
 
 void cell_regions(const camera& cam, const facepair& fp, const lt_node& n, std::vector<int>& counts,
-                  std::vector<float>& xy) {
-  glm::dvec3 front[4], back[4];
+                  std::vector<float>& xy, const cell_trust* trust) {
+  glm::dvec3 front[4], back[4], face[4];
   const int order[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};  // corners around the rectangle
   for (int k = 0; k < 4; ++k) {
     const int i = order[k][0], j = order[k][1];
     front[k] = glm::dvec3(front_point(fp, i ? n.hi[0] : n.lo[0], j ? n.hi[1] : n.lo[1]));
     back[k] = glm::dvec3(back_point(fp, i ? n.hi[2] : n.lo[2], j ? n.hi[3] : n.lo[3]));
+    if (trust && trust->face_check) {
+      glm::dvec3& q = face[k];
+      q[fp.axis] = trust->face_at;
+      q[fp.u] = i ? trust->face_hi[0] : trust->face_lo[0], q[fp.v] = j ? trust->face_hi[1] : trust->face_lo[1];
+    }
   }
-  poly2 f[2], b[2];
+  poly2 f[2], b[2], fc[2];
   const int nf = face_parts(cam, front, f), nb = face_parts(cam, back, b);
+  const bool on_face = trust && trust->face_check;
+  if (on_face && face_parts(cam, face, fc, true) == 0) return;  // the face is out of view
   for (int i = 0; i < nf; ++i)
     for (int j = 0; j < nb; ++j) {
-      const poly2 p = overlap(f[i], b[j]);
+      poly2 p = overlap(f[i], b[j]);
+      if (on_face && p.n >= 3) p = overlap(p, fc[0]);
       if (p.n < 3) continue;
       counts.push_back(p.n);
       for (int k = 0; k < p.n; ++k) xy.push_back(float(p.v[k].x)), xy.push_back(float(p.v[k].y));
@@ -198,7 +207,7 @@ void cell_triangles(const camera& cam, const std::vector<cell_ref>& cells, const
   for (std::size_t i = last; i-- > first;) {
     if (!trusted[i].ok) continue;
     counts.clear(), poly.clear();
-    cell_regions(cam, cells[i].lt->fp, *cells[i].node, counts, poly);
+    cell_regions(cam, cells[i].lt->fp, *cells[i].node, counts, poly, &trusted[i]);
     const std::uint32_t colour = std::uint32_t(i + 1) | 0xff000000u;  // R, G, B, A in memory
     std::size_t at = 0;
     for (int c : counts) {

@@ -59,9 +59,11 @@ void cell_triangles(const camera& cam, const std::vector<cell_ref>& cells, const
 
 // The screen regions of a cell (exposed for tests): convex polygons in window coordinates
 // (x right from the left edge, y up from the bottom, pixel centres at half-integers) whose
-// union holds the pixel centres whose eye lines cross both faces and lie in the view.
+// union holds the pixel centres whose eye lines cross both faces and lie in the view (and,
+// for a cell that needs a face check, meet the face's rectangle in front of the eye).
 // Appends each polygon's vertex count to `counts` and its vertices to `xy`.
 void cell_regions(const camera& cam, const facepair& fp, const lt_node& n, std::vector<int>& counts,
-                  std::vector<float>& xy);
+                  std::vector<float>& xy,
+                  const cell_trust* trust = nullptr);
 
 }  // namespace epsray

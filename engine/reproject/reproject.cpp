@@ -8,6 +8,19 @@
 
 namespace epsray {
 
+namespace {
+// Do all points of `b` lie strictly inside the face of its box that face rectangle
+// `face` extends? Then every line meeting the rectangle's plane there from the outside
+// enters the box by that face.
+bool inside_face(const world& w, int face, const bounds& b) {
+  const bounds& f = w.prim_bounds[size_t(w.face_owner[size_t(face)])];
+  const int k = flat_axis(w.prim_bounds[size_t(face)]);
+  for (int i = 0; i < 3; ++i)
+    if (i != k && !(b.lo[i] > f.lo[i] && b.hi[i] < f.hi[i])) return false;
+  return true;
+}
+}  // namespace
+
 cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye) {
   cell_trust out;
   if (c.ip->reason != cell_reason::valid || c.ip->hit_box.empty()) return out;
@@ -18,13 +31,25 @@ cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye) {
   const bool ahead = fp.back > fp.front ? eye[fp.axis] < c.ip->hit_box.lo[fp.axis]
                                         : eye[fp.axis] > c.ip->hit_box.hi[fp.axis];
   if (!ahead) return out;
-  if (!same_first_hit(w.shapes[size_t(c.prim)], fp, eye)) return out;
+  const int self = scene_prim_of(w, c.prim);  // a face rectangle's box
+  if (!same_first_hit(w.shapes[size_t(self)], fp, eye)) return out;
+  if (self != c.prim && !inside_face(w, c.prim, with_rounding_margin(c.ip->hit_box, eye))) {
+    // Its pixels are those whose lines lie in the cell and meet the face: the face's
+    // rectangle is one more clip of the cell's screen region, in the face's own facepair.
+    const int k = flat_axis(w.prim_bounds[size_t(c.prim)]);
+    if (fp.axis != k) return out;
+    const bounds& f = w.prim_bounds[size_t(self)];
+    out.face_check = true;
+    out.face_at = w.prim_bounds[size_t(c.prim)].lo[k];
+    out.face_lo[0] = f.lo[fp.u], out.face_hi[0] = f.hi[fp.u];
+    out.face_lo[1] = f.lo[fp.v], out.face_hi[1] = f.hi[fp.v];
+  }
   // A pixel's point, computed in floats from its own eye ray, may lie some ulps outside the
   // box the predicate proved for the cell's lines.
   const bounds from{eye, eye}, to = with_rounding_margin(c.ip->hit_box, eye);
   const shaft s = make_shaft(from, to);
   const bool crowded = for_each_shape_in_shaft(w, s, from, to, [&](int id) {
-    if (id == c.prim || std::find(out.candidates, out.candidates + out.count, id) != out.candidates + out.count)
+    if (id == self || std::find(out.candidates, out.candidates + out.count, id) != out.candidates + out.count)
       return false;
     if (out.count == cell_trust::max_candidates) return true;
     out.candidates[out.count++] = id;
@@ -47,6 +72,17 @@ bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float 
   return line_in_cell(cam, c, eye_direction(cam, float(x), float(y)), x4);
 }
 
+bool eye_line_owned(const camera& cam, const cell_ref& c, const cell_trust& trust, int x, int y, float x4[4]) {
+  const glm::vec3 d = eye_direction(cam, float(x), float(y));
+  if (!line_in_cell(cam, c, d, x4)) return false;
+  if (!trust.face_check) return true;
+  // Where the line meets the face's plane, as line_coords finds a plane's intercepts.
+  const facepair& fp = c.lt->fp;
+  const double t = (double(trust.face_at) - double(cam.origin[fp.axis])) / double(d[fp.axis]);
+  const double u = double(cam.origin[fp.u]) + t * double(d[fp.u]), v = double(cam.origin[fp.v]) + t * double(d[fp.v]);
+  return u >= trust.face_lo[0] && u <= trust.face_hi[0] && v >= trust.face_lo[1] && v <= trust.face_hi[1];
+}
+
 namespace {
 
 // The pixels of one scan line whose lines lie in a cell, found per row instead of per pixel.
@@ -54,15 +90,16 @@ namespace {
 // of eye_line_in_cell becomes linear once multiplied by the ray's component along the
 // facepair's axis (positive in the cell): the facepair's dominance (two tests per other
 // axis, and the axis component's sign), for a flat object's other facepairs that the line
-// is flatter than flat_slope (two tests), and each of the four ranges (two tests each).
-// So the pixels in the cell form one run, the intersection of 15 half-lines g . D(x) >= 0
+// is flatter than flat_slope (two tests), each of the four ranges (two tests each), and
+// for a cell that needs a face check the face's two ranges on its plane (two tests each).
+// So the pixels in the cell form one run, the intersection of 19 half-lines g . D(x) >= 0
 // (a zero g: no test).
 struct row_tests {
-  static constexpr int count = 15;
+  static constexpr int count = 19;
   glm::dvec3 g[count];
 };
 
-row_tests cell_row_tests(const camera& cam, const cell_ref& c) {
+row_tests cell_row_tests(const camera& cam, const cell_ref& c, const cell_trust& trust) {
   const facepair& fp = c.lt->fp;
   const lt_node& n = *c.node;
   const double s = fp.index & 1 ? -1.0 : 1.0;
@@ -93,6 +130,12 @@ row_tests cell_row_tests(const camera& cam, const cell_ref& c) {
   range(fp.front, ev, fp.v, n.lo[1], n.hi[1]);
   range(fp.back, eu, fp.u, n.lo[2], n.hi[2]);
   range(fp.back, ev, fp.v, n.lo[3], n.hi[3]);
+  if (trust.face_check) {  // and the line meets the box's face (cell_trust::face_check)
+    range(trust.face_at, eu, fp.u, trust.face_lo[0], trust.face_hi[0]);
+    range(trust.face_at, ev, fp.v, trust.face_lo[1], trust.face_hi[1]);
+  } else {
+    for (int i = 0; i < 4; ++i) t.g[k++] = glm::dvec3(0);
+  }
   return t;
 }
 
@@ -101,7 +144,8 @@ row_tests cell_row_tests(const camera& cam, const cell_ref& c) {
 // its float rounding decides membership there; inside the run no pixel is tested here
 // (fill_pixel tests its own line again, so a pixel rounding leaves out only takes the
 // interpolate path).
-void row_run(const camera& cam, const cell_ref& c, const row_tests& t, int y, int x0, int x1, int& xa, int& xb) {
+void row_run(const camera& cam, const cell_ref& c, const cell_trust& trust, const row_tests& t, int y, int x0, int x1,
+             int& xa, int& xb) {
   const double cx = 0.5 * double(cam.width - 1), cy = 0.5 * double(cam.height - 1), step = cam.step;
   const glm::dvec3 Q = step * glm::dvec3(cam.r);
   const glm::dvec3 P = glm::dvec3(cam.w) - cx * Q + (cy - double(y)) * step * glm::dvec3(cam.u);
@@ -121,7 +165,7 @@ void row_run(const camera& cam, const cell_ref& c, const row_tests& t, int y, in
   }
   xa = int(std::ceil(lo)), xb = int(std::floor(hi));  // both in [x0, x1 - 1] now
   float x4[4];
-  auto in = [&](int x) { return x >= x0 && x < x1 && eye_line_in_cell(cam, c, x, y, x4); };
+  auto in = [&](int x) { return x >= x0 && x < x1 && eye_line_owned(cam, c, trust, x, y, x4); };
   while (xa <= xb && !in(xa)) ++xa;
   while (xb >= xa && !in(xb)) --xb;
   if (xa > xb) return;
@@ -139,10 +183,10 @@ void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std
     const pixel_rect& r = rects[i];
     const int ya = std::max(r.y0, y0), yb = std::min(r.y1, y1);
     if (ya >= yb || r.x0 >= r.x1) continue;
-    const row_tests t = cell_row_tests(cam, cells[i]);
+    const row_tests t = cell_row_tests(cam, cells[i], trusted[i]);
     for (int y = ya; y < yb; ++y) {
       int xa, xb;
-      row_run(cam, cells[i], t, y, r.x0, r.x1, xa, xb);
+      row_run(cam, cells[i], trusted[i], t, y, r.x0, r.x1, xa, xb);
       std::int32_t* row = owner + size_t(y) * size_t(cam.width);
       for (int x = xa; x <= xb; ++x)
         if (row[x] < 0) row[x] = std::int32_t(i);
@@ -160,9 +204,12 @@ bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell
   // closest_hit would.
   const ray r = eye_ray(w, cam, d);
   float t = 0;
-  if ((trust.count || c.ip->textured() || c.ip->deferred || c.ip->deferred_rays) &&
-      !hit_shape(w.shapes[size_t(c.prim)], w.polys, r, std::numeric_limits<float>::infinity(), t))
+  // A face rectangle's pixel meets its box, by that face (the reference's normal there).
+  const int self = scene_prim_of(w, c.prim);
+  if ((trust.count || trust.face_check || c.ip->textured() || c.ip->deferred || c.ip->deferred_rays) &&
+      !hit_shape(w.shapes[size_t(self)], w.polys, r, std::numeric_limits<float>::infinity(), t))
     return false;
+  if (trust.face_check && face_prim_of(w, self, r) != c.prim) return false;
   // A candidate met before (or, within rounding, at) the point hides it or ties with it:
   // the interpolate path's visibility ray decides.
   for (int i = 0; i < trust.count; ++i) {

@@ -29,6 +29,12 @@ namespace epsray {
 struct cell_trust {
   static constexpr int max_candidates = 7;
   bool ok = false;
+  // A box face's cell (world::face_prims) whose lines may meet its plane off the face: it
+  // owns only pixels whose lines meet the face's rectangle (face_at on the facepair's
+  // axis, [face_lo, face_hi] along its u and v), and each pixel's eye ray must meet the
+  // box by that face (fill_pixel), which rounding at the rectangle's edges needs.
+  bool face_check = false;
+  float face_at = 0, face_lo[2] = {0, 0}, face_hi[2] = {0, 0};
   std::uint8_t count = 0;
   std::int32_t candidates[max_candidates] = {};
 };
@@ -38,6 +44,9 @@ cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye);
 // computes it; true when the pixel's ray runs in the facepair's direction and its line
 // lies inside the cell.
 bool eye_line_in_cell(const camera& cam, const cell_ref& c, int x, int y, float x4[4]);
+// The same, and for a cell that needs a face check, the line meets the face's rectangle:
+// the pixels the cell owns when no earlier cell does (splat_rows).
+bool eye_line_owned(const camera& cam, const cell_ref& c, const cell_trust& trust, int x, int y, float x4[4]);
 
 // Owner of each pixel of rows [y0, y1): the index of the first trusted cell (in list order)
 // holding the pixel's line, or -1. `owner` is the whole image's buffer, row-major. With

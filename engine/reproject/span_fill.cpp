@@ -86,7 +86,7 @@ span_bound span_error(const camera& cam, const cell_ref& c, const corner_differe
 }
 
 bool span_fillable(const cell_ref& c, const cell_trust& t) {
-  return t.ok && t.count == 0 && !c.ip->textured() && !(c.ip->deferred | c.ip->deferred_rays);
+  return t.ok && t.count == 0 && !t.face_check && !c.ip->textured() && !(c.ip->deferred | c.ip->deferred_rays);
 }
 
 int fill_span(const camera& cam, const cell_ref& c, int y, int x0, int x1, int segment, float eps, glm::vec3* L,
