@@ -7,8 +7,9 @@
 // screen-space interpolation error to fold in).
 //
 // Where the paper rasterizes cell faces with conflict detection, ownership here is decided
-// exactly, per pixel: the pixel's line must lie inside the cell's four ranges. Cells keep a
-// deterministic order, and the first containing trusted cell owns the pixel. (`--reproject
+// exactly, per pixel: the pixel's line must lie inside the cell's four ranges (and, for a
+// box face's cell that reaches past the face, meet the face: cell_trust::face_check).
+// Cells keep a deterministic order, and the first containing trusted cell owns the pixel. (`--reproject
 // osmesa` draws the same rule instead: face_raster.h.)
 #pragma once
 #include <cstdint>
