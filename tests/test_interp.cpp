@@ -1041,15 +1041,18 @@ TEST(BoxFaces, OnlyAxisAlignedOpaqueUntexturedBoxesGetThemAndNoRayMeetsThem) {
     EXPECT_EQ(w.shapes[size_t(id)].poly.n[f / 2], f % 2 ? -1.0f : 1.0f);
     const bounds &r = w.prim_bounds[size_t(id)], &b = w.prim_bounds[size_t(box)];
     for (int i = 0; i < 3; ++i)
-      if (i != f / 2) EXPECT_TRUE(r.lo[i] < b.lo[i] && r.hi[i] > b.hi[i]);
+      if (i != f / 2) {
+        EXPECT_TRUE(r.lo[i] < b.lo[i] && r.hi[i] > b.hi[i]);
+      }
   }
   // Every eye ray of the view meets a scene primitive or nothing: the rectangles are in no BVH.
   const camera cam = make_camera(w.sc.view, 32, 32);
   for (int y = 0; y < 32; ++y)
     for (int x = 0; x < 32; ++x) {
       hit h;
-      if (closest_hit(w, make_ray(cam.origin, eye_direction(cam, float(x), float(y))), INFINITY, h))
+      if (closest_hit(w, make_ray(cam.origin, eye_direction(cam, float(x), float(y))), INFINITY, h)) {
         EXPECT_LT(size_t(h.prim), w.scene_prims);
+      }
     }
   for (const char* other : {"box -0.4 0 -0.4 0.4 1 0.4\n", "f 1 1 1 0.5 0 0 0.5 1.5\nbox -0.4 0 -0.4 0.4 1 0.4\n",
                             "rotate 0 1 0 30\nbox -0.4 0 -0.4 0.4 1 0.4\n"}) {
