@@ -25,13 +25,14 @@ glm::vec3 cell_colour(const lt_node& n) {
           0.25f + 0.75f * float(h >> 16 & 255) / 255};
 }
 
-// The leaf of `prim`'s linetree holding the eye ray (looked up, never built), or null when
+// The leaf of `prim`'s linetree (or its face's, for a box) holding the eye ray (looked up, never built), or null when
 // the ray's first hit is another object or lies outside the tree.
 const lt_node* leaf_of(const world& w, const camera& cam, linetree_set& trees, int prim, int x, int y) {
   const ray r = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
   hit h;
   if (!closest_hit(w, r, std::numeric_limits<float>::infinity(), h) || h.prim != prim) return nullptr;
-  const linetree& lt = trees.tree_for(prim, r.d);
+  const int face = face_prim_of(w, prim, r);  // a box's pixels use their face's tree
+  const linetree& lt = trees.tree_for(face >= 0 ? face : prim, r.d);
   float x4[4];
   line_coords(lt.fp, r.o, r.d, x4);
   if (!holds(lt.root, x4)) return nullptr;
