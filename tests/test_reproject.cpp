@@ -343,6 +343,46 @@ struct next_eye {
   }
 };
 
+// A box face's cell reaching past the face (cell_trust::face_check) owns only the pixels
+// whose lines meet the face; a pixel whose line lies in such a cell but meets the face's
+// plane off the face belongs to whatever lies behind, and fill_pixel refuses it.
+TEST(Reprojection, BoxFaceCellsOwnOnlyPixelsOnTheirFace) {
+  const int width = 200, height = 150;
+  next_eye e(width, height);
+  const world& w = e.w;
+  const camera& cam = e.cam;
+  const std::vector<cell_ref>& cells = e.reproj.cells;
+  int checked_cells = 0, owned = 0, off_face = 0;
+  trace_state st;
+  for (size_t i = 0; i < cells.size(); ++i) {
+    const cell_trust& t = e.trusted[i];
+    if (!t.ok || !t.face_check) continue;
+    ++checked_cells;
+    const int box = scene_prim_of(w, cells[i].prim);
+    ASSERT_NE(box, cells[i].prim);
+    const pixel_rect& r = e.rects[i];
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x) {
+        float x4[4];
+        if (!eye_line_in_cell(cam, cells[i], x, y, x4)) continue;
+        const ray ray_ = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
+        float tb;
+        const bool on = hit_shape(w.shapes[size_t(box)], w.polys, ray_, INFINITY, tb) &&
+                        face_prim_of(w, box, ray_) == cells[i].prim;
+        glm::vec3 L;
+        if (eye_line_owned(cam, cells[i], t, x, y, x4)) {
+          ++owned;
+        } else if (!on) {
+          ++off_face;
+          EXPECT_FALSE(fill_pixel(w, cam, cells[i], t, x, y, 0.05f, st, L)) << "pixel " << x << "," << y;
+        }
+      }
+  }
+  EXPECT_GT(checked_cells, 5);
+  EXPECT_GT(owned, 100);
+  EXPECT_GT(off_face, 100) << "lines in the cells that miss the face";
+}
+
 TEST(Reprojection, RowRunsOwnThePixelsThePerPixelTestWould) {
   const int width = 200, height = 150;
   next_eye e(width, height);
