@@ -34,9 +34,10 @@ struct world {
   std::vector<texture_range> texture_ranges;  // per scene texture
   std::vector<uv_frame> uv_frames;  // per primitive id: polygons, patches and disks (surface_uv)
   vec3 ambient{0}, background{0};
-  // Box faces' own linetree objects (box_faces.h): primitive ids from scene_prims on are
-  // rectangles in the planes of axis-aligned opaque boxes' faces, larger than the faces and
-  // in no BVH: no ray ever hits them, only linetrees are keyed by them.
+  // Box faces' own linetree objects (add_face_prims in world.cpp): primitive ids from
+  // scene_prims on are rectangles in the planes of axis-aligned, opaque, untextured boxes'
+  // faces, larger than the faces and in no BVH: no ray ever meets them, only linetrees are
+  // keyed by them.
   size_t scene_prims = 0;            // primitives in the BVH: ids [0, scene_prims)
   std::vector<std::int32_t> face_prims;  // 6 per scene primitive (2 axis + (outward normal < 0)), -1: none
   std::vector<std::int32_t> face_owner;  // per primitive id: the box of a face rectangle, else -1
