@@ -50,7 +50,7 @@ void add_face_prims(scene& s, world& w) {
   w.face_prims.assign(6 * n, -1);
   w.face_owner.assign(n, -1);
   for (size_t id = 0; id < n; ++id) {
-    const primitive box = s.prims[size_t(w.info[id].source)];
+    const primitive box = s.prims[size_t(w.info[id].source)];  // a copy: s.prims grows below
     if (box.kind != prim_kind::box || box.frame != glm::mat3(1.0f)) continue;
     const material& m = s.materials[size_t(box.material)];
     if (m.texture >= 0 || m.t > 0) continue;

@@ -66,26 +66,27 @@ facepair make_facepair(const bounds& box, int index);
 // pixel's coordinates are then within half an ulp of its float ray's exact line, however far
 // the eye stands from the object (in float, o's rounding entered at the eye's magnitude),
 // which the predicate's widening of each cell by 16 ulps covers (bound_cell).
+// Where the line o + t d meets the plane at axis coordinate `at`: its u and v, in double.
+inline glm::dvec2 plane_intercept(const facepair& f, glm::vec3 o, glm::vec3 d, double at) {
+  const double t = (at - double(o[f.axis])) / double(d[f.axis]);
+  return {double(o[f.u]) + t * double(d[f.u]), double(o[f.v]) + t * double(d[f.v])};
+}
+
 inline void line_coords(const facepair& f, glm::vec3 o, glm::vec3 d, float abcd[4]) {
-  const double oa = o[f.axis], da = d[f.axis];
-  const double tf = (double(f.front) - oa) / da, tb = (double(f.back) - oa) / da;
-  abcd[0] = float(double(o[f.u]) + tf * double(d[f.u]));
-  abcd[1] = float(double(o[f.v]) + tf * double(d[f.v]));
-  abcd[2] = float(double(o[f.u]) + tb * double(d[f.u]));
-  abcd[3] = float(double(o[f.v]) + tb * double(d[f.v]));
+  const glm::dvec2 front = plane_intercept(f, o, d, f.front), back = plane_intercept(f, o, d, f.back);
+  abcd[0] = float(front.x), abcd[1] = float(front.y), abcd[2] = float(back.x), abcd[3] = float(back.y);
+}
+
+// The point (a, b) of the plane at axis coordinate `at`, in the facepair's u and v.
+inline glm::vec3 plane_point(const facepair& f, float at, float a, float b) {
+  glm::vec3 p;
+  p[f.axis] = at, p[f.u] = a, p[f.v] = b;
+  return p;
 }
 
 // The line through (a, b) on the front plane and (c, d) on the back plane.
-inline glm::vec3 front_point(const facepair& f, float a, float b) {
-  glm::vec3 p;
-  p[f.axis] = f.front, p[f.u] = a, p[f.v] = b;
-  return p;
-}
-inline glm::vec3 back_point(const facepair& f, float c, float d) {
-  glm::vec3 p;
-  p[f.axis] = f.back, p[f.u] = c, p[f.v] = d;
-  return p;
-}
+inline glm::vec3 front_point(const facepair& f, float a, float b) { return plane_point(f, f.front, a, b); }
+inline glm::vec3 back_point(const facepair& f, float c, float d) { return plane_point(f, f.back, c, d); }
 
 // Is the eye strictly in front of the front plane? Only then is an eye ray's first hit on
 // the object the same as its line's first hit after the front plane.

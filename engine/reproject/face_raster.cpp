@@ -131,11 +131,9 @@ void cell_regions(const camera& cam, const facepair& fp, const lt_node& n, std::
     const int i = order[k][0], j = order[k][1];
     front[k] = glm::dvec3(front_point(fp, i ? n.hi[0] : n.lo[0], j ? n.hi[1] : n.lo[1]));
     back[k] = glm::dvec3(back_point(fp, i ? n.hi[2] : n.lo[2], j ? n.hi[3] : n.lo[3]));
-    if (trust && trust->face_check) {
-      glm::dvec3& q = face[k];
-      q[fp.axis] = trust->face_at;
-      q[fp.u] = i ? trust->face_hi[0] : trust->face_lo[0], q[fp.v] = j ? trust->face_hi[1] : trust->face_lo[1];
-    }
+    if (trust && trust->face_check)
+      face[k] = glm::dvec3(plane_point(fp, trust->face_at, i ? trust->face_hi[0] : trust->face_lo[0],
+                                       j ? trust->face_hi[1] : trust->face_lo[1]));
   }
   poly2 f[2], b[2], fc[2];
   const int nf = face_parts(cam, front, f), nb = face_parts(cam, back, b);

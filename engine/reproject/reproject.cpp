@@ -12,9 +12,9 @@ namespace {
 // Do all points of `b` lie strictly inside the face of its box that face rectangle
 // `face` extends? Then every line meeting the rectangle's plane there from the outside
 // enters the box by that face.
-bool inside_face(const world& w, int face, const bounds& b) {
+// (k: the face's normal axis.)
+bool inside_face(const world& w, int face, int k, const bounds& b) {
   const bounds& f = w.prim_bounds[size_t(w.face_owner[size_t(face)])];
-  const int k = flat_axis(w.prim_bounds[size_t(face)]);
   for (int i = 0; i < 3; ++i)
     if (i != k && !(b.lo[i] > f.lo[i] && b.hi[i] < f.hi[i])) return false;
   return true;
@@ -33,10 +33,10 @@ cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye) {
   if (!ahead) return out;
   const int self = scene_prim_of(w, c.prim);  // a face rectangle's box
   if (!same_first_hit(w.shapes[size_t(self)], fp, eye)) return out;
-  if (self != c.prim && !inside_face(w, c.prim, with_rounding_margin(c.ip->hit_box, eye))) {
+  const int k = self != c.prim ? flat_axis(w.prim_bounds[size_t(c.prim)]) : -1;
+  if (self != c.prim && !inside_face(w, c.prim, k, with_rounding_margin(c.ip->hit_box, eye))) {
     // Its pixels are those whose lines lie in the cell and meet the face: the face's
     // rectangle is one more clip of the cell's screen region, in the face's own facepair.
-    const int k = flat_axis(w.prim_bounds[size_t(c.prim)]);
     if (fp.axis != k) return out;
     const bounds& f = w.prim_bounds[size_t(self)];
     out.face_check = true;
@@ -76,11 +76,8 @@ bool eye_line_owned(const camera& cam, const cell_ref& c, const cell_trust& trus
   const glm::vec3 d = eye_direction(cam, float(x), float(y));
   if (!line_in_cell(cam, c, d, x4)) return false;
   if (!trust.face_check) return true;
-  // Where the line meets the face's plane, as line_coords finds a plane's intercepts.
-  const facepair& fp = c.lt->fp;
-  const double t = (double(trust.face_at) - double(cam.origin[fp.axis])) / double(d[fp.axis]);
-  const double u = double(cam.origin[fp.u]) + t * double(d[fp.u]), v = double(cam.origin[fp.v]) + t * double(d[fp.v]);
-  return u >= trust.face_lo[0] && u <= trust.face_hi[0] && v >= trust.face_lo[1] && v <= trust.face_hi[1];
+  const glm::dvec2 p = plane_intercept(c.lt->fp, cam.origin, d, trust.face_at);  // on the face's plane
+  return p.x >= trust.face_lo[0] && p.x <= trust.face_hi[0] && p.y >= trust.face_lo[1] && p.y <= trust.face_hi[1];
 }
 
 namespace {
