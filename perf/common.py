@@ -3,6 +3,7 @@ paths made from a scene's own view."""
 import json
 import math
 import os
+import shutil
 import subprocess
 import tempfile
 
@@ -28,6 +29,23 @@ def run_walk(exe, scene, path, flags):
                        check=True)
         with open(stats) as f:
             return json.load(f)
+
+
+def gnuplot(script, png):
+    """Draws a chart with gnuplot when it is installed; True when `png` was written.
+    The charts share one style: a title on every figure and panel, keys outside the
+    plotting area, and value axes that start at zero unless they are logarithmic."""
+    if not shutil.which("gnuplot"):
+        return False
+    ok = subprocess.run(["gnuplot", "-e", script]).returncode == 0
+    if ok:
+        print("wrote", png)
+    return ok
+
+
+def gp_text(s):
+    """A string for a gnuplot script, in single quotes (a quote inside is doubled)."""
+    return "'" + str(s).replace("'", "''") + "'"
 
 
 def view_of(scene):

@@ -12,11 +12,13 @@ same run (base walks interleaved with the others), and the error actually measur
               frames (--reuse-age N; a render-cache-like baseline);
   lightfield  fixed-depth linetrees interpolated without the error predicate (--lf-depth D).
 Writes a Markdown table per scene, the raw JSON, and (gnuplot) a chart per scene: time
-against error, max and 99.9th percentile side by side.
+against the largest error, the 99.9th percentile and the pixels over epsilon side by side,
+each point labelled with its setting.
 
     perf/accuracy/bench.py [SCENE ...] [--frames 20] [--size 400x300] [--threads N]
                            [--eps 0.005,...,0.5] [--upsample 2,3,4,6] [--reuse-age 1,2,4,8,32]
                            [--lf-depth 3,4,5,6] [--exe build/epsray] [--out perf/results/accuracy.md]
+    perf/accuracy/bench.py --replot perf/results/accuracy.json    # redraw the charts only
 Default scenes: scenes/artroom.nff on its walk (scenes/paths/artroom-walk.path), and, when
 ../shared is present, the SPD scenes balls-s3 and teapot-s6 on a slow orbit of their view.
 """
@@ -24,9 +26,7 @@ import argparse
 import json
 import math
 import os
-import shutil
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -34,7 +34,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SPD = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd")
 sys.path.insert(0, os.path.join(ROOT, "perf"))
-from common import orbit_path, run_walk  # noqa: E402
+from common import gnuplot, gp_text, orbit_path, run_walk  # noqa: E402
 
 NOMINAL_EPS = 0.05  # the baselines have no epsilon: "over" counts pixels over this one
 
@@ -53,29 +53,49 @@ def summary(frames, base_ms):
             "fast": sum(f["pixels"]["fast"] for f in frames) / n, "interp": sum(f["pixels"]["interp"] for f in frames) / n}
 
 
-def chart(name, rows, png, dat):
-    """Time against error, one series per method; max error and 99.9th percentile panels."""
+def chart(name, rows, png, dat, caption=""):
+    """Time against error, one series per method, each point labelled with its setting
+    (eps, K, age, depth): three panels, the largest error, the 99.9th percentile and the
+    pixels over epsilon, with one key below them, off the data."""
     methods = [m for m in ("full", "upsample", "reuse", "lightfield") if any(r["method"] == m for r in rows)]
+    knob = {"full": "eps %g", "upsample": "K %d", "reuse": "age %d", "lightfield": "depth %d"}
     with open(dat, "w") as f:
         for m in methods:
-            f.write("# %s: param ratio max p999 mean\n" % m)
+            f.write("# %s: param ratio max p999 mean over label\n" % m)
             for r in sorted((r for r in rows if r["method"] == m), key=lambda r: r["param"]):
-                f.write("%g %g %g %g %g\n" % (r["param"], r["ratio"], max(r["max"], 1e-6), max(r["p999"], 1e-6),
-                                              max(r["mean"], 1e-6)))
+                # Log axes: errors floored at 1e-6; no pixel over is drawn at 0.5, the tic labelled 0.
+                f.write("%g %g %g %g %g %g \"%s\"\n" % (
+                    r["param"], r["ratio"], max(r["max"], 1e-6), max(r["p999"], 1e-6), max(r["mean"], 1e-6),
+                    r["over"] if r["over"] > 0 else 0.5, knob[m] % r["param"]))
             f.write("\n\n")
     title = {"full": "bounded error (eps)", "upsample": "base at 1/K, upsampled", "reuse": "pixel reuse, no control",
              "lightfield": "fixed-depth interpolation, no predicate"}
 
-    def plot(col, label):
-        series = ", ".join("'%s' index %d using %d:2 with linespoints lw 2 title '%s'" % (dat, i, col, title[m])
-                           for i, m in enumerate(methods))
-        return ("set xlabel '%s (relative, measured against Whitted)'; plot %s, 1 with lines dt 2 lc 'gray' "
-                "title 'base tracer'; " % (label, series))
-    script = ("set terminal pngcairo size 1400,560; set output '%s'; set multiplot layout 1,2 title '%s: frame time "
-              "against error'; set logscale x; set grid; set ylabel 'frame time / base'; set yrange [0:*]; "
-              "set key top right; " % (png, name) + plot(3, "max error") + plot(4, "99.9th percentile error") +
-              "unset multiplot")
-    subprocess.run(["gnuplot", "-e", script], check=False)
+    def series(col, with_titles):
+        return ", ".join(
+            "'%s' index %d using %d:2 with linespoints lw 2 lc %d pt %d title %s, "
+            "'' index %d using %d:2:7 with labels offset char 0.6,0.6 left font ',8' tc lt %d notitle" %
+            (dat, i, col, i + 1, i + 5, gp_text(title[m]) if with_titles else "''", i, col, i + 1)
+            for i, m in enumerate(methods)) + ", 1 with lines dt 2 lc 'gray' notitle"
+
+    def panel(k, col, xlabel, ptitle, extra=""):
+        return ("set origin %g,0.1; set size 0.333,0.84; set title %s; set xlabel %s; %s plot %s; " %
+                (k / 3, gp_text(ptitle), gp_text(xlabel), extra, series(col, False)))
+    # The key: a plot of nothing across the bottom, so it never covers a point.
+    key = ("set origin 0,0; set size 1,0.1; unset title; unset xlabel; unset ylabel; unset tics; unset border; "
+           "unset grid; unset logscale; set xrange [0:1]; set yrange [0:1]; set key center center horizontal "
+           "maxrows 1 width 1; plot " + ", ".join("NaN with linespoints lw 2 lc %d pt %d title %s" %
+                                                  (i + 1, i + 5, gp_text(title[m])) for i, m in enumerate(methods)) +
+           ", NaN with lines dt 2 lc 'gray' title 'base tracer (time 1)'; ")
+    script = ("set terminal pngcairo noenhanced size 1800,640; set output '%s'; set multiplot title %s; "
+              "unset key; set logscale x; set grid; set ylabel 'frame time / base (median frame, same run)'; "
+              "set yrange [0:*]; " % (png, gp_text("%s: frame time against measured error%s" % (name, caption))) +
+              panel(0, 3, "largest relative error (measured against Whitted)", "largest error") +
+              panel(1, 4, "99.9th percentile of the relative error", "99.9th percentile error") +
+              panel(2, 6, "pixels over epsilon, all frames (baselines: over %g)" % NOMINAL_EPS, "pixels over epsilon",
+                    "set xtics add ('0' 0.5); set xrange [0.3:*];") +
+              key + "unset multiplot")
+    gnuplot(script, png)
 
 
 def main():
@@ -91,14 +111,23 @@ def main():
     ap.add_argument("--lf-depth", default="3,4,5,6")
     ap.add_argument("--exe", default=os.path.join(ROOT, "build", "epsray"))
     ap.add_argument("--out", default=os.path.join(ROOT, "perf", "results", "accuracy.md"))
+    ap.add_argument("--replot", metavar="JSON", help="redraw the charts of an earlier run's accuracy.json "
+                    "beside --out, without walking anything")
     a = ap.parse_args()
+    out_base = os.path.splitext(a.out)[0]
+    if a.replot:
+        with open(a.replot) as f:
+            raw = json.load(f)
+        os.makedirs(os.path.dirname(a.out), exist_ok=True)
+        for name, run in raw.items():
+            chart(name, run["rows"], out_base + "-" + name + ".png", out_base + "-" + name + ".dat")
+        return 0
     scenes = a.scenes or [os.path.join(ROOT, "scenes", "artroom.nff")] + [
         os.path.join(SPD, s + ".nff") for s in ("balls-s3", "teapot-s6") if os.path.exists(os.path.join(SPD, s + ".nff"))]
     runs = [("full", float(e), ["--eps", e]) for e in a.eps.split(",")]
     runs += [("upsample", int(k), ["--upsample", k]) for k in a.upsample.split(",") if k]
     runs += [("reuse", int(n), ["--reuse-age", n]) for n in a.reuse_age.split(",") if n]
     runs += [("lightfield", int(d), ["--lf-depth", d]) for d in a.lf_depth.split(",") if d]
-    out_base = os.path.splitext(a.out)[0]
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
     text = ["# Speed against accuracy (%s, %d frames, %d threads; %s)" % (a.size, a.frames, a.threads,
                                                                         time.strftime("%Y-%m-%d %H:%M")), "",
@@ -143,8 +172,8 @@ def main():
                 f.write("\n".join(text) + "\n")
             with open(out_base + ".json", "w") as f:
                 json.dump(raw, f, indent=1)
-            if shutil.which("gnuplot"):
-                chart(name, rows, out_base + "-" + name + ".png", out_base + "-" + name + ".dat")
+            chart(name, rows, out_base + "-" + name + ".png", out_base + "-" + name + ".dat",
+                  " (%d frames, %s, %d threads)" % (a.frames, a.size, a.threads))
     print("wrote", a.out)
     return 0
 

@@ -3,28 +3,48 @@
 in full mode with no budget and with `--memory-mb M` budgets, and a base walk, side by side.
 Reports per run: linetree memory per frame (largest, last), the process's peak, the median
 frame time against base and against no budget, and the share of pixels per path; charts
-memory and frame time per frame (gnuplot).
+memory and frame time per frame, both from zero (gnuplot).
 
     perf/memory/bench.py [--budgets 64,25] [--frames 1000] [--size 400x300] [--eps 0.05]
                          [--exe build/epsray] [--out perf/results/memory.md]
 """
 import argparse
 import os
-import shutil
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "perf"))
-from common import run_walk  # noqa: E402
+from common import gnuplot, gp_text, run_walk  # noqa: E402
 
 
 def walk(exe, path, size, eps, mode, budget):
     flags = ["--mode", mode, "--size", size, "--eps", eps] + (["--memory-mb", budget] if budget else [])
     return run_walk(exe, os.path.join(ROOT, "scenes", "artroom.nff"), path, flags)
+
+
+def chart(runs, budgets, base, caption):
+    """Linetree memory and frame time per frame, one line per budget; both axes from zero,
+    the budgets drawn as dashed lines, the keys outside the plots."""
+    dat, png = base + ".dat", base + ".png"
+    with open(dat, "w") as f:
+        for b, r in runs:
+            f.write("# budget %g\n" % b)
+            for k, fr in enumerate(r["frames"]):
+                f.write("%d %.3f %.3f\n" % (k, fr["linetree_bytes"] / 1e6, fr["ms"]))
+            f.write("\n\n")
+    names = ["no budget"] + ["--memory-mb %g" % b for b in budgets[1:]]
+    mem = ", ".join("'%s' index %d u 1:2 w l lw 2 lc %d t %s" % (dat, i, i + 1, gp_text(n)) for i, n in enumerate(names))
+    mem += "".join(", %g w l dt 2 lc %d t %s" % (b, i + 2, gp_text("budget %g MB" % b)) for i, b in enumerate(budgets[1:]))
+    tms = ", ".join("'%s' index %d u 1:3 w l lc %d t %s" % (dat, i, i + 1, gp_text(n)) for i, n in enumerate(names))
+    script = ("set terminal pngcairo noenhanced size 1000,760; set output '%s'; set multiplot layout 2,1 title %s; "
+              "set grid; set key outside right; set rmargin 28; set xrange [0:*]; "
+              "set title 'linetree memory (linetree_bytes)'; set ylabel 'MB'; set yrange [0:*]; plot %s; "
+              "set title 'frame time'; set xlabel 'frame'; set ylabel 'frame ms'; set yrange [0:*]; plot %s; "
+              "unset multiplot" % (png, gp_text("Memory budget: " + caption), mem, tms))
+    gnuplot(script, png)
 
 
 def main():
@@ -65,21 +85,8 @@ def main():
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
     with open(a.out, "w") as f:
         f.write(text)
-    if shutil.which("gnuplot"):
-        dat, png = os.path.splitext(a.out)[0] + ".dat", os.path.splitext(a.out)[0] + ".png"
-        with open(dat, "w") as f:
-            for b, r in runs:
-                f.write("# budget %g\n" % b)
-                for k, fr in enumerate(r["frames"]):
-                    f.write("%d %.3f %.3f\n" % (k, fr["linetree_bytes"] / 1e6, fr["ms"]))
-                f.write("\n\n")
-        names = ["no budget"] + ["%g MB" % b for b in budgets[1:]]
-        mem = ", ".join("'%s' index %d u 1:2 w l lw 2 t '%s'" % (dat, i, n) for i, n in enumerate(names))
-        tms = ", ".join("'%s' index %d u 1:3 w l t '%s'" % (dat, i, n) for i, n in enumerate(names))
-        script = ("set terminal pngcairo size 900,700; set output '%s'; set multiplot layout 2,1; set grid; "
-                  "set ylabel 'memory MB'; plot %s; set xlabel 'frame'; set ylabel 'frame ms'; set logscale y; "
-                  "plot %s; unset multiplot" % (png, mem, tms))
-        subprocess.run(["gnuplot", "-e", script], check=False)
+    chart(runs, budgets, os.path.splitext(a.out)[0], "%d frames of artroom-long.path, %s, full mode, eps %g" % (
+        len(base["frames"]), a.size, a.eps))
     print("wrote", a.out)
     return 0
 

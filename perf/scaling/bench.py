@@ -14,7 +14,6 @@ teapot-s6; each walks 12 frames of a slow orbit around its own camera's target.
 import argparse
 import json
 import os
-import shutil
 import statistics
 import subprocess
 import sys
@@ -24,7 +23,7 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SPD = os.path.join(os.path.dirname(ROOT), "shared", "scenes", "spd")
 sys.path.insert(0, os.path.join(ROOT, "perf"))
-from common import orbit_path, run_walk  # noqa: E402
+from common import gnuplot, gp_text, orbit_path, run_walk  # noqa: E402
 
 
 def walk(exe, scene, path, mode, size, threads, pin, tile_rows=None):
@@ -45,27 +44,31 @@ def report(a, info, rows):
     text = "\n".join(lines) + "\n"
     with open(a.out, "w") as f:
         f.write(text)
-    if shutil.which("gnuplot"):
-        dat = os.path.splitext(a.out)[0] + ".dat"
-        png = os.path.splitext(a.out)[0] + ".png"
-        series = sorted({(r[0], r[1]) for r in rows})
-        with open(dat, "w") as f:
-            for name, mode in series:
-                f.write("# %s %s\n" % (name, mode))
-                for r in rows:
-                    if (r[0], r[1]) == (name, mode):
-                        f.write("%d %.4f\n" % (r[2], r[4]))
-                f.write("\n\n")
-        # One colour per scene, one point and dash per mode.
-        names = sorted({n for n, _ in series})
-        kinds = {"base": (1, 7), "interp": (3, 4), "full": (2, 5)}
-        plots = ", ".join("'%s' index %d with linespoints lw 2 lc %d dt %d pt %d title '%s %s'" %
-                          (dat, i, names.index(n) + 1, kinds.get(m, (1, 1))[0], kinds.get(m, (1, 1))[1], n, m)
-                          for i, (n, m) in enumerate(series))
-        script = ("set terminal pngcairo size 800,600; set output '%s'; set xlabel 'threads'; "
-                  "set ylabel 'speedup over 1 thread'; set key left top; set grid; "
-                  "plot x title 'ideal' dashtype 2, %s" % (png, plots))
-        subprocess.run(["gnuplot", "-e", script])
+    dat = os.path.splitext(a.out)[0] + ".dat"
+    png = os.path.splitext(a.out)[0] + ".png"
+    series = sorted({(r[0], r[1]) for r in rows})
+    with open(dat, "w") as f:
+        for name, mode in series:
+            f.write("# %s %s\n" % (name, mode))
+            for r in rows:
+                if (r[0], r[1]) == (name, mode):
+                    f.write("%d %.4f\n" % (r[2], r[4]))
+            f.write("\n\n")
+    # One colour per scene, one point and dash per mode.
+    names = sorted({n for n, _ in series})
+    kinds = {"base": (1, 7), "interp": (3, 4), "full": (2, 5)}
+    plots = ", ".join("'%s' index %d with linespoints lw 2 lc %d dt %d pt %d title '%s %s'" %
+                      (dat, i, names.index(n) + 1, kinds.get(m, (1, 1))[0], kinds.get(m, (1, 1))[1], n, m)
+                      for i, (n, m) in enumerate(series))
+    title = "Speedup over one thread (%s, %d frames, median frame%s)" % (
+        a.size, a.frames, ", workers pinned" if a.pin else "")
+    counts = sorted({r[2] for r in rows})
+    top = 1.05 * max(counts + [1])
+    script = ("set terminal pngcairo noenhanced size 900,600; set output '%s'; set title %s; "
+              "set xlabel 'threads'; set ylabel 'speedup over 1 thread'; set xrange [0:%g]; set yrange [0:%g]; "
+              "set xtics (%s); set key outside right; set grid; plot x title 'ideal' dashtype 2 lc 'gray', %s" %
+              (png, gp_text(title), top, top, ", ".join(str(c) for c in counts), plots))
+    gnuplot(script, png)
 
 
 def main():

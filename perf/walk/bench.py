@@ -14,15 +14,13 @@ walk) the max error and pixels over epsilon.
 """
 import argparse
 import os
-import shutil
 import statistics
-import subprocess
 import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "perf"))
-from common import add_walk_arguments, run_walk  # noqa: E402
+from common import add_walk_arguments, gnuplot, gp_text, run_walk  # noqa: E402
 
 
 def walk(exe, scene, path, mode, size, threads, eps, verify=False, budget=0):
@@ -105,12 +103,11 @@ def main():
     with open(a.out, "w") as out:
         out.write(text)
     print("wrote", a.out)
-    if shutil.which("gnuplot"):
-        figure12(runs, os.path.splitext(a.out)[0], budgeted if a.memory_mb else None)
+    figure12(runs, os.path.splitext(a.out)[0], a.scene, a.path, a.size, budgeted if a.memory_mb else None)
     return 0
 
 
-def figure12(runs, base, budgeted=None):
+def figure12(runs, base, scene, path, size, budgeted=None):
     """The paper's Figure 12 for our walk: per frame, the frame time of each mode, the share
     of full mode's pixels on each path, and full mode's linetree memory, unbounded and under
     the budget when one ran (the first repetition)."""
@@ -125,16 +122,19 @@ def figure12(runs, base, budgeted=None):
             out.write("%d %.2f %.2f %.2f %.2f %.2f %.2f %.2f %.2f\n" % (
                 k, b[k]["ms"], i[k]["ms"], f[k]["ms"], 100 * px["fast"] / n, 100 * px["interp"] / n,
                 100 * px["base"] / n, f[k]["linetree_bytes"] / 1e6, fb[k]["linetree_bytes"] / 1e6))
+    title = gp_text("Figure 12: %s along %s, %s, frame by frame" % (os.path.basename(scene), os.path.basename(path), size))
     script = (
-        "set terminal pngcairo size 900,900; set output '%s'; set multiplot layout 3,1; set grid; set key outside right;"
-        "set lmargin 10; set rmargin 30; set xrange [0:*];"
-        "set ylabel 'frame ms'; plot '%s' u 1:2 w l lw 2 t 'base', '' u 1:3 w l lw 2 t 'interp', '' u 1:4 w l lw 2 t 'full';"
-        "set ylabel 'pixels (%%, full)'; set yrange [0:100]; plot '%s' u 1:($5+$6+$7) w filledcurves x1 t 'base-traced', "
+        "set terminal pngcairo noenhanced size 900,960; set output '%s'; set multiplot layout 3,1 title %s;"
+        "set grid; set key outside right; set lmargin 10; set rmargin 30; set xrange [0:*];"
+        "set title 'frame time per mode'; set ylabel 'frame ms'; set yrange [0:*];"
+        "plot '%s' u 1:2 w l lw 2 t 'base', '' u 1:3 w l lw 2 t 'interp', '' u 1:4 w l lw 2 t 'full';"
+        "set title 'full mode: where its pixels came from'; set ylabel 'pixels (%%)'; set yrange [0:100];"
+        "plot '%s' u 1:($5+$6+$7) w filledcurves x1 t 'base-traced', "
         "'' u 1:($5+$6) w filledcurves x1 t 'interpolated', '' u 1:5 w filledcurves x1 t 'fast (reprojected)';"
-        "set yrange [0:*]; set xlabel 'frame'; set ylabel 'linetrees MB (full)'; plot '%s' u 1:8 w l lw 2 t 'unbounded'"
-        "%s; unset multiplot" % (png, dat, dat, dat, ", '' u 1:9 w l lw 2 t '%s'" % budgeted if budgeted else ""))
-    if subprocess.run(["gnuplot", "-e", script]).returncode == 0:
-        print("wrote", png)
+        "set title 'full mode: linetree memory'; set yrange [0:*]; set xlabel 'frame'; set ylabel 'linetrees MB';"
+        "plot '%s' u 1:8 w l lw 2 t 'unbounded'%s; unset multiplot" % (
+            png, title, dat, dat, dat, ", '' u 1:9 w l lw 2 t %s" % gp_text(budgeted) if budgeted else ""))
+    gnuplot(script, png)
 
 
 if __name__ == "__main__":
