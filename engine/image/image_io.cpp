@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
@@ -15,28 +16,70 @@ namespace epsray {
 
 namespace {
 
-// Writes through a temporary and renames, so a reader never sees half a file.
-template <class Body>
-void write_atomically(const std::string& path, Body&& body) {
-  std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
+[[noreturn]] void cannot_write(const std::string& path, int err) {
+  throw std::runtime_error(path + ": cannot write" + (err ? std::string(": ") + std::strerror(err) : std::string()));
+}
+
+// Runs body on f and closes it; false, with the errno to report in err, when anything
+// failed (fflush and fclose report what the writes left buffered could not store).
+bool write_and_close(std::FILE* f, const std::function<bool(std::FILE*)>& body, int& err) {
+  errno = 0;
   bool ok = false;
   try {
     ok = body(f);
   } catch (...) {
     std::fclose(f);
-    std::remove(tmp.c_str());
     throw;
   }
-  ok = (std::fclose(f) == 0) && ok;
-  if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
-  }
+  err = errno;
+  if (ok && std::fflush(f) != 0) ok = false, err = errno;
+  if (std::fclose(f) != 0 && ok) ok = false, err = errno;
+  return ok;
 }
 
 }  // namespace
+
+bool written_in_place(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);  // follows links
+  // /dev/stdout and /proc/self/fd/N may lead to a regular file that is some process's
+  // open stdout: renaming over it would leave that process writing to an unlinked file.
+  const bool system_file = path.rfind("/dev/", 0) == 0 || path.rfind("/proc/", 0) == 0;
+  return fs::exists(st) && ((!fs::is_regular_file(st) && !fs::is_directory(st)) || system_file);
+}
+
+void write_atomically(const std::string& path, const std::function<bool(std::FILE*)>& body) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  int err = 0;
+  if (written_in_place(path)) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) cannot_write(path, errno);
+    if (!write_and_close(f, body, err)) cannot_write(path, err);
+    return;
+  }
+  std::string target = path;
+  if (fs::is_symlink(fs::symlink_status(path, ec))) {
+    const fs::path t = fs::weakly_canonical(path, ec);
+    if (!ec) target = t.string();
+  }
+  const std::string tmp = target + ".tmp." + std::to_string(::getpid());
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) cannot_write(path, errno);
+  bool ok = false;
+  try {
+    ok = write_and_close(f, body, err);
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+  if (ok && std::rename(tmp.c_str(), target.c_str()) != 0) ok = false, err = errno;
+  if (!ok) {
+    std::remove(tmp.c_str());
+    cannot_write(path, err);
+  }
+}
 
 unsigned char srgb_byte_exact(float linear) {
   float x = std::isnan(linear) ? 0.0f : std::clamp(linear, 0.0f, 1.0f);
