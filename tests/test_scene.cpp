@@ -1,7 +1,12 @@
 // engine/scene: the NFF parser with epsray's superset, the SPD light convention, transforms,
 // and the camera-path parser. Every malformed input must name its exact line (whitted.md,
 // contract.md: `file:line: what`).
+#include <sys/stat.h>
+
+#include <chrono>
 #include <cmath>
+#include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -11,6 +16,9 @@
 #include "scene/input_error.h"
 #include "scene/nff.h"
 #include "scene/path_file.h"
+#include "scene/line_reader.h"
+#include "scene/token_reader.h"
+#include "scene/camera.h"
 #include "shade/whitted.h"
 #include "test_util.h"
 
@@ -389,14 +397,19 @@ std::vector<bad_case> bad_scenes() {
       {"sphere_3_numbers", with_view("s 0 0 0\n"), 8, "sphere needs 4 numbers, got 3"},
       {"sphere_5_numbers", with_view("s 0 0 0 1 2\n"), 8, "sphere needs 4 numbers, got 5"},
       {"cone_7_numbers", with_view("c 0 0 0 1 0 0 1\n"), 8, "needs 8 numbers, got 7"},
-      {"material_7_numbers", with_view("f 1 1 1 1 0 0 0\ns 0 0 0 1\n"), 8, "needs 8 numbers, got 7"},
-      {"light_4_numbers", with_view("l 1 2 3 4\ns 0 0 0 1\n"), 8, "light (l) needs 3 or 6 numbers, got 4"},
-      {"background_2_numbers", with_view("b 1 1\ns 0 0 0 1\n"), 8, "needs 3 numbers, got 2"},
-      {"from_2_numbers", view_with(2, "from 0 0"), 2, "from needs 3 numbers, got 2"},
-      {"polygon_vertex_2_numbers", with_view("p 3\n0 0 0\n1 0\n0 1 0\n"), 10,
-       "polygon vertex needs 3 numbers, got 2"},
-      {"patch_vertex_3_numbers", with_view("pp 3\n0 0 0 0 0 1\n1 0 0\n0 1 0 0 0 1\n"), 10,
-       "patch vertex needs 6 numbers"},
+      {"material_7_numbers", with_view("f 1 1 1 1 0 0 0\ns 0 0 0 1\n"), 9,
+       "material (f) needs 8 numbers, got 7 (the entity begins at line 8)"},
+      {"light_4_numbers", with_view("l 1 2 3 4\ns 0 0 0 1\n"), 9, "light (l) needs 3 or 6 numbers, got 4"},
+      {"background_2_numbers", with_view("b 1 1\ns 0 0 0 1\n"), 9, "needs 3 numbers, got 2"},
+      {"from_2_numbers", view_with(2, "from 0 0"), 3, "from needs 3 numbers, got 2 (the entity begins at line 2)"},
+      {"polygon_vertex_2_numbers", with_view("p 3\n0 0 0\n1 0\n0 1 0\n"), 8,
+       "polygon (p) ends early: expected 3 vertices (9 numbers), got 8 numbers"},
+      {"patch_vertex_3_numbers", with_view("pp 3\n0 0 0 0 0 1\n1 0 0\n0 1 0 0 0 1\n"), 8,
+       "patch (pp) ends early: expected 3 vertices (18 numbers), got 15 numbers"},
+      {"polygon_too_many_numbers", with_view("p 3\n0 0 0\n1 0 0\n0 1 0 7\n"), 11, "needs 9 numbers after its count, got more"},
+      {"sphere_numbers_on_next_line", with_view("s 0 0 0 1\n2 3\n"), 9, "sphere needs 4 numbers, got 6"},
+      {"number_where_entity_expected", "7\n" + view7 + "s 0 0 0 1\n", 1, "number '7' where an entity was expected"},
+      {"v_with_a_number", view_with(1, "v 3"), 1, "v takes no numbers, got 1"},
       // non-numbers, nan, inf, out of float range
       {"non_number", with_view("s 0 0 abc 1\n"), 8, "'abc' is not a number"},
       {"nan", with_view("s 0 nan 0 1\n"), 8, "'nan' is not a finite number"},
@@ -425,10 +438,10 @@ std::vector<bad_case> bad_scenes() {
       {"polygon_non_planar", with_view("p 4\n0 0 0\n1 0 0\n1 1 0\n0 1 0.5\n"), 8, "not planar: vertex 3"},
       {"polygon_2_vertices", with_view("p 2\n0 0 0\n1 0 0\n"), 8, "polygon vertex count: 2 is out of range"},
       {"polygon_0_vertices", with_view("s 0 0 0 1\np 0\n"), 9, "polygon vertex count: 0 is out of range"},
-      {"polygon_ends_at_eof", with_view("s 0 0 0 1\np 4\n0 0 0\n1 0 0\n\n# end\n"), 11,
-       "ends early: expected 4 vertices, got 2"},
+      {"polygon_ends_at_eof", with_view("s 0 0 0 1\np 4\n0 0 0\n1 0 0\n\n# end\n"), 9,
+       "ends early: expected 4 vertices (12 numbers), got 6 numbers"},
       {"polygon_cut_by_next_entity", with_view("p 4\n0 0 0\n1 0 0\n1 1 0\ns 0 0 0 1\n"), 12,
-       "polygon vertex needs 3 numbers, got 5 ('s' is not a number)"},
+       "polygon (p) ends early: expected 4 vertices (12 numbers), got 9 numbers (the entity begins at line 8)"},
       {"patch_collinear", with_view("pp 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n2 0 0 0 0 1\n"), 8, "degenerate polygon"},
       {"patch_zero_normal", with_view("pp 3\n0 0 0 0 0 1\n1 0 0 0 0 0\n0 1 0 0 0 1\n"), 10,
        "patch vertex normal is zero"},
@@ -665,6 +678,266 @@ TEST(FuzzRegression, LargestColoursGiveFiniteRadiance) {
       EXPECT_TRUE(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) << x << "," << y;
     }
   EXPECT_GT(st.counts.refract, 0u);  // the glass sphere was hit: every factor entered
+}
+
+}  // namespace
+}  // namespace epsray
+
+// --- NFF as a token stream (whitted.md 2) ---------------------------------------------
+
+namespace epsray {
+namespace {
+
+// The scene's tokens with comments dropped, as the reader under test splits them.
+std::vector<std::string> nff_tokens(const std::string& text) {
+  token_reader in(text, "tokens");
+  std::vector<std::string> out;
+  while (!in.peek().end()) out.emplace_back(in.next().text);
+  return out;
+}
+
+// The same tokens laid out again: `gap(i)` is what stands between token i and i+1.
+template <class Gap>
+std::string relayout(const std::vector<std::string>& toks, Gap gap) {
+  std::string out;
+  for (size_t i = 0; i < toks.size(); ++i) out += toks[i] + gap(i);
+  return out;
+}
+
+// Every layout writers use: one token a line (LF, CRLF, CR), the whole file on one line,
+// Haines' layout (keyword alone on its line, then three numbers a line), and random mixes
+// of blanks, tabs, blank lines and line ends.
+std::vector<std::pair<std::string, std::string>> layouts(const std::string& text) {
+  const std::vector<std::string> t = nff_tokens(text);
+  std::vector<std::pair<std::string, std::string>> out;
+  out.push_back({"one_token_a_line_lf", relayout(t, [](size_t) { return "\n"; })});
+  out.push_back({"one_token_a_line_crlf", relayout(t, [](size_t) { return "\r\n"; })});
+  out.push_back({"one_token_a_line_cr", relayout(t, [](size_t) { return "\r"; })});
+  out.push_back({"one_line", relayout(t, [](size_t) { return " "; })});
+  out.push_back({"haines", relayout(t, [&](size_t i) {
+                   static int run = 0;
+                   bool next_is_word = i + 1 < t.size() && !looks_decimal(t[i + 1]);
+                   if (!looks_decimal(t[i]) || next_is_word) return run = 0, std::string("\n");
+                   return std::string(++run % 3 == 0 ? "\n" : " ");
+                 })});
+  for (unsigned seed : {1u, 2u, 3u}) {
+    std::mt19937 g(seed);
+    const char* gaps[] = {" ", "\t", "\n", "\r\n", "\r", "  \t ", "\n\n", "\r\n\r\n", " # a comment\n", "\t\r"};
+    out.push_back({"mixed_" + std::to_string(seed),
+                   relayout(t, [&](size_t) { return std::string(gaps[g() % (sizeof gaps / sizeof *gaps)]); })});
+  }
+  return out;
+}
+
+// A picture of the scene by the reference tracer: every layout must give these bytes.
+image reference_picture(const scene& sc, int w = 48, int h = 36) {
+  world wd = make_world(scene(sc));
+  camera cam = make_camera(wd.sc.view, w, h);
+  image img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      trace_state st;
+      img.at(x, y) = trace_eye(wd, make_ray(cam.origin, eye_direction(cam, float(x), float(y))), st);
+    }
+  return img;
+}
+
+void expect_same_scene(const scene& a, const scene& b) {
+  ASSERT_EQ(a.prims.size(), b.prims.size());
+  for (size_t i = 0; i < a.prims.size(); ++i) {
+    const primitive &p = a.prims[i], &q = b.prims[i];
+    EXPECT_TRUE(p.kind == q.kind && p.material == q.material && p.a == q.a && p.b == q.b && p.r0 == q.r0 &&
+                p.r1 == q.r1 && p.first == q.first && p.count == q.count && p.frame == q.frame)
+        << "primitive " << i;
+  }
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(a.normals, b.normals);
+  ASSERT_EQ(a.lights.size(), b.lights.size());
+  ASSERT_EQ(a.materials.size(), b.materials.size());
+  ASSERT_EQ(a.textures.size(), b.textures.size());
+  EXPECT_EQ(a.view.from, b.view.from);
+  EXPECT_EQ(a.view.width, b.view.width);
+}
+
+void check_layouts(const std::string& text, const std::string& dir) {
+  const scene base = parse_scene(text, "base.nff", dir);
+  const image want = reference_picture(base);
+  for (const auto& [name, laid] : layouts(text)) {
+    SCOPED_TRACE(name);
+    scene s = parse_scene(laid, name + ".nff", dir);
+    expect_same_scene(base, s);
+    EXPECT_TRUE(test::same_pixels(reference_picture(s), want));
+  }
+}
+
+TEST(NffLayout, TheArtRoomInEveryLayoutGivesTheSameImage) {
+  const std::string dir = std::string(EPSRAY_SOURCE_DIR) + "/scenes";
+  check_layouts(test::read_file(dir + "/artroom.nff"), dir);
+}
+
+TEST(NffLayout, AnSpdSceneInEveryLayoutGivesTheSameImage) {
+  for (const char* name : {"rings-s3", "teapot-s6"}) {
+    EPSRAY_REQUIRE_SPD(name);
+    check_layouts(test::read_file(test::spd_scene(name).string()), "");
+  }
+}
+
+// Haines' own NFF document: `c` alone on its line, then base and apex; `p n`, then a
+// vertex a line; a polygon written on one line, as other writers do.
+TEST(NffLayout, HainesConeAndOneLinePolygonAreRead) {
+  scene a = parse(view7 + "c\n0 0 0 1\n0 0 2 0.5\np 3 0 0 0 1 0 0 0 1 0\n");
+  scene b = parse(view7 + "c 0 0 0 1 0 0 2 0.5\np 3\n0 0 0\n1 0 0\n0 1 0\n");
+  expect_same_scene(a, b);
+  ASSERT_EQ(a.prims.size(), 2u);
+  EXPECT_EQ(a.prims[0].kind, prim_kind::cone);
+  EXPECT_EQ(a.prims[0].line, 8);
+  EXPECT_EQ(a.prims[1].kind, prim_kind::polygon);
+}
+
+TEST(NffLayout, CrOnlyLineEndsCountLines) {
+  std::string text = with_view("s 0 0 0 1\ns 0 0 0\n");
+  for (char& c : text)
+    if (c == '\n') c = '\r';
+  try {
+    parse(text);
+    FAIL() << "a sphere of 3 numbers was read";
+  } catch (const input_error& e) {
+    EXPECT_EQ(e.line, 9) << e.what();
+  }
+}
+
+TEST(NffLayout, TheSupersetFollowsTheSameRule) {
+  scene a = parse(view7 +
+                  "push\ntranslate\n1\n2 3\nrotate 0 0\n1 90\nscale\n2\ntexture\nchecker 1 0 0\n0 0 1\n1 1\n"
+                  "box\n0 0 0\n1 1 1\ndisk 0 0 0 0 0 1\n2\npop\nambient\n0.1 0.1 0.1\n");
+  scene b = parse(view7 +
+                  "push\ntranslate 1 2 3\nrotate 0 0 1 90\nscale 2\ntexture checker 1 0 0 0 0 1 1 1\n"
+                  "box 0 0 0 1 1 1\ndisk 0 0 0 0 0 1 2\npop\nambient 0.1 0.1 0.1\n");
+  expect_same_scene(a, b);
+  EXPECT_EQ(a.textures.size(), 1u);
+  EXPECT_TRUE(a.has_ambient);
+}
+
+TEST(NffLayout, AHugeNumberIsEchoedCut) {
+  const std::string big(10'000'000, '7');
+  try {
+    parse(with_view("s 0 0 0 1" + big + "x\n"));
+    FAIL();
+  } catch (const input_error& e) {
+    EXPECT_LT(std::string(e.what()).size(), 200u);
+    EXPECT_NE(std::string(e.what()).find("characters"), std::string::npos) << e.what();
+  }
+}
+
+// --- only regular files, with a bound -------------------------------------------------
+
+template <class F>
+void expect_refused_fast(F&& load, const char* phrase) {
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    load();
+    FAIL() << "accepted";
+  } catch (const input_error& e) {
+    EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
+}
+
+TEST(InputFiles, DevicesAndFifosAreRefusedAtOnce) {
+  expect_refused_fast([] { load_scene("/dev/zero"); }, "not a regular file");
+  expect_refused_fast([] { load_camera_path("/dev/zero"); }, "not a regular file");
+  test::temp_dir d;
+  const std::string fifo = d.file("scene.fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  expect_refused_fast([&] { load_scene(fifo); }, "not a regular file");
+  expect_refused_fast([&] { load_camera_path(fifo); }, "not a regular file");
+  expect_refused_fast([&] { read_text_file(fifo); }, "not a regular file");  // the viewer's scripts
+  test::write_file(d.file("t.nff"), with_view("texture image scene.fifo 1 1\ns 0 0 0 1\n"));
+  expect_refused_fast([&] { load_scene(d.file("t.nff")); }, "not a regular file");
+  expect_refused_fast([&] { load_scene(d.path().string()); }, "is a folder");
+}
+
+TEST(InputFiles, ASparseFileOverTheLimitIsRefusedBeforeItIsRead) {
+  test::temp_dir d;
+  const std::string big = d.file("big.nff");
+  { std::ofstream(big) << "# sparse\n"; }
+  std::error_code ec;
+  std::filesystem::resize_file(big, std::uintmax_t(3) << 30, ec);  // 3 GiB of holes
+  if (ec) GTEST_SKIP() << "no sparse files here: " << ec.message();
+  expect_refused_fast([&] { load_scene(big); }, "over the limit of 2147483648 bytes");
+}
+
+// Image headers that claim more texels than the cap: refused from the header, before a
+// byte of texels is decoded (stb would allocate gigabytes first).
+TEST(InputFiles, TexturesOverTheTexelCapAreRefusedFromTheirHeader) {
+  test::temp_dir d;
+  // A TGA header: uncompressed true colour, 25000 x 25000, 24 bits, then a few bytes.
+  std::string tga(18, '\0');
+  tga[2] = 2;
+  tga[12] = char(25000 & 255), tga[13] = char(25000 >> 8), tga[14] = char(25000 & 255), tga[15] = char(25000 >> 8);
+  tga[16] = 24;
+  test::write_file(d.file("huge.tga"), tga + std::string(64, '\x7f'));
+  // A PNG whose IHDR says 16384 x 16384 (the rest of the file is missing).
+  const unsigned char png[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
+                               0, 0, 0x40, 0, 0, 0, 0x40, 0, 8, 2, 0, 0, 0, 0, 0, 0, 0};
+  test::write_file(d.file("huge.png"), std::string(reinterpret_cast<const char*>(png), sizeof png));
+  for (const char* f : {"huge.tga", "huge.png"}) {
+    SCOPED_TRACE(f);
+    test::write_file(d.file("t.nff"), with_view(std::string("texture image ") + f + " 1 1\ns 0 0 0 1\n"));
+    expect_refused_fast([&] { load_scene(d.file("t.nff")); }, "over the limit of 67108864 texels");
+  }
+}
+
+TEST(InputFiles, ACorruptImagesMessageIsPrintable) {
+  test::temp_dir d;
+  test::write_file(d.file("bad.png"), std::string("\x89PNG\r\n\x1a\n\x01\x02\x03garbage", 19));
+  test::write_file(d.file("t.nff"), with_view("texture image bad.png 1 1\ns 0 0 0 1\n"));
+  try {
+    load_scene(d.file("t.nff"));
+    FAIL();
+  } catch (const input_error& e) {
+    for (unsigned char c : std::string(e.what())) EXPECT_TRUE(c >= 32 && c < 127) << int(c) << " in " << e.what();
+  }
+}
+
+// --- transforms checked like the primitives they make -------------------------------
+
+TEST(Transforms, OverflowUnderflowAndDegenerateResultsAreRefusedAtTheirLine) {
+  struct tcase {
+    const char* text;
+    int line;
+    const char* phrase;
+  };
+  const tcase cases[] = {
+      {"scale 1e30\nscale 1e30\ns 0 0 0 1\n", 9, "scale is beyond float range"},
+      {"scale 1e-30\nscale 1e-30\nbox 0 0 0 1 1 1\n", 9, "scale underflows to zero"},
+      {"scale 1e-19\nbox 0 0 0 1e-20 1 1\n", 9, "box size underflows to zero once scaled"},
+      {"scale 1e-19\ndisk 0 0 0 0 0 1 1e-20\n", 9, "disk radius underflows"},
+      {"scale 1e-19\ns 0 0 0 1e-20\n", 9, "sphere radius underflows"},
+      {"scale 1e20\ns 0 0 0 1e19\n", 9, "sphere radius is beyond float range"},
+      {"scale 1e20\ns 1e19 0 0 1\n", 9, "sphere centre is beyond float range"},
+      {"translate 3e38 0 0\ntranslate 3e38 0 0\ns 0 0 0 1\n", 9, "translation is beyond float range"},
+      {"scale 1e20\np 3\n0 0 0\n1e19 0 0\n0 1 0\n", 9, "vertex is beyond float range"},
+      {"scale 1e20\nl 1e19 0 0\ns 0 0 0 1\n", 9, "light position is beyond float range"},
+      {"scale 1e20\nc 0 0 0 1  1e19 0 0 1\n", 9, "cone apex is beyond float range"},
+  };
+  for (const tcase& c : cases) {
+    SCOPED_TRACE(c.text);
+    try {
+      parse(with_view(c.text));
+      ADD_FAILURE() << "accepted";
+    } catch (const input_error& e) {
+      EXPECT_EQ(e.line, c.line) << e.what();
+      EXPECT_NE(e.what_is_wrong.find(c.phrase), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(Transforms, ATinyRotationAxisIsStillItsDirection) {
+  scene a = parse(with_view("rotate 1e-30 0 0 90\np 3\n0 0 0\n0 1 0\n0 0 1\n"));
+  scene b = parse(with_view("rotate 1 0 0 90\np 3\n0 0 0\n0 1 0\n0 0 1\n"));
+  EXPECT_EQ(a.vertices, b.vertices);
+  expect_vec(a.vertices[1], vec3(0, 0, 1));
 }
 
 }  // namespace

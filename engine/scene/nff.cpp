@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 #include "scene/camera.h"
 #include "scene/line_reader.h"
+#include "scene/token_reader.h"
 
 namespace epsray {
 
@@ -24,8 +26,33 @@ struct xform {
   vec3 dir(vec3 d) const { return rot * d; }
 };
 
+// The entities' keywords: in a token stream, where one entity's numbers end is where the
+// next keyword (or the end of the file) stands.
+bool is_keyword(std::string_view w) {
+  static const char* const words[] = {"v", "from", "at", "up", "angle", "hither", "resolution", "b", "l", "f",
+                                      "s", "c", "p", "pp", "box", "disk", "cc", "texture", "ambient", "push",
+                                      "pop", "translate", "rotate", "scale"};
+  for (const char* k : words)
+    if (w == k) return true;
+  return false;
+}
+
+constexpr float float_max = std::numeric_limits<float>::max();
+
+bool finite3(vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// An axis of any finite length as a unit vector. Where its squared length leaves float's
+// range it is scaled by its largest component first, so (1e-30, 0, 0) is the x axis
+// rather than 0/0.
+vec3 unit_axis(vec3 a) {
+  float l2 = glm::dot(a, a);
+  if (std::isnormal(l2) && l2 < float_max) return glm::normalize(a);
+  float m = std::max({std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)});
+  return glm::normalize(a / m);
+}
+
 struct parser {
-  line_reader in;
+  token_reader in;
   std::string base_dir;
   scene s;
   material current;  // NFF: the material before any `f`
@@ -33,15 +60,61 @@ struct parser {
   int view_line = 0;
   bool saw_from = false, saw_at = false, saw_up = false, saw_angle = false, saw_res = false;
 
+  // The entity being read: its keyword's token and its name in messages.
+  token key;
+  const char* what = "";
+  std::vector<token> words;  // the current entity's numbers, as tokens
+
   parser(std::string_view text, const std::string& name, std::string dir)
       : in(text, name), base_dir(std::move(dir)) {}
 
-  [[noreturn]] void fail(const text_line& l, const std::string& m) const { in.fail(l.number, m); }
-  float num(const text_line& l, size_t i, const char* what) const { return in.number(l, i, what); }
-  vec3 vec(const text_line& l, size_t i, const char* what) const {
-    return {num(l, i, what), num(l, i + 1, what), num(l, i + 2, what)};
-  }
+  [[noreturn]] void fail(int line, const std::string& m) const { in.fail(line, m); }
+  // Entity-level problems are reported at the entity's keyword.
+  [[noreturn]] void fail(const std::string& m) const { in.fail(key.line, m); }
   const xform& top() const { return stack.back(); }
+
+  // Where a number was wanted but the file ended or the next entity began: at that token,
+  // or at the entity's keyword when the file ends.
+  [[noreturn]] void missing(const std::string& m) const {
+    const token& t = in.peek();
+    if (t.end()) fail(key.line, m);
+    fail(t.line, m + " (the entity begins at line " + std::to_string(key.line) + ")");
+  }
+  static std::string count_message(const char* what, size_t n, size_t got) {
+    std::ostringstream m;
+    m << what << " needs " << n << (n == 1 ? " number" : " numbers") << ", got " << got;
+    return m.str();
+  }
+  // Takes the entity's next `n` words as number slots (checked later, each at its own line).
+  void take(size_t n, size_t need_total) {
+    for (size_t i = 0; i < n; ++i) {
+      const token& t = in.peek();
+      if (t.end() || is_keyword(t.text)) missing(count_message(what, need_total, words.size()));
+      words.push_back(in.next());
+    }
+  }
+  // After the last number: a further number means the entity was given too many.
+  void no_more(size_t n) {
+    if (!looks_decimal(in.peek().text)) return;
+    const int line = in.peek().line;
+    size_t got = words.size();
+    while (looks_decimal(in.peek().text)) in.next(), ++got;
+    if (n == 0) fail(line, std::string(what) + " takes no numbers, got " + std::to_string(got));
+    fail(line, count_message(what, n, got));
+  }
+  // An entity of exactly n numbers.
+  void begin(const token& k, const char* name, size_t n) {
+    key = k;
+    what = name;
+    words.clear();
+    take(n, n);
+    no_more(n);
+  }
+  float num(size_t i, const char* name) const { return parse_number(words.at(i).text, name, in.name(), words[i].line); }
+  vec3 vec(size_t i, const char* name) const { return {num(i, name), num(i + 1, name), num(i + 2, name)}; }
+  long integer(size_t i, const char* name, long lo, long hi) const {
+    return parse_integer(words.at(i).text, name, lo, hi, in.name(), words[i].line);
+  }
 
   // Upper bounds keep the radiance finite (docs/fuzzing.md): a pixel multiplies a light by
   // Kd, C and a checker colour, then by Ks or T at each of 4 bounces. With these bounds one
@@ -49,13 +122,13 @@ struct parser {
   static constexpr float max_intensity = 1e6f;  // light colours, ambient, background
   static constexpr float max_factor = 1e3f;     // material and checker colours, Kd, Ks, T
 
-  void check_colour(const text_line& l, vec3 c, const char* what, float max = max_intensity) const {
-    if (c.x < 0 || c.y < 0 || c.z < 0) fail(l, std::string(what) + " must be non-negative");
-    if (c.x > max || c.y > max || c.z > max) fail(l, std::string(what) + " must be at most " + std::to_string(long(max)));
+  void check_colour(vec3 c, const char* name, float max = max_intensity) const {
+    if (c.x < 0 || c.y < 0 || c.z < 0) fail(std::string(name) + " must be non-negative");
+    if (c.x > max || c.y > max || c.z > max) fail(std::string(name) + " must be at most " + std::to_string(long(max)));
   }
-  void check_factor(const text_line& l, float k, const char* what) const {
-    if (k < 0) fail(l, std::string(what) + " must be non-negative");
-    if (k > max_factor) fail(l, std::string(what) + " must be at most " + std::to_string(long(max_factor)));
+  void check_factor(float k, const char* name) const {
+    if (k < 0) fail(std::string(name) + " must be non-negative");
+    if (k > max_factor) fail(std::string(name) + " must be at most " + std::to_string(long(max_factor)));
   }
 
   int material_index() {
@@ -68,223 +141,291 @@ struct parser {
     s.materials.push_back(current);
   }
 
-  void add(primitive p, const text_line& l) {
+  // The transform applied to a point or a length must stay a finite, non-degenerate float:
+  // `scale 1e30` twice, or `translate 3e38 0 0` twice, is refused here rather than
+  // rendering a primitive at infinity or of size zero.
+  vec3 placed(vec3 p, const char* name) const {
+    vec3 q = top().point(p);
+    if (!finite3(q)) fail(std::string(name) + " is beyond float range once transformed");
+    return q;
+  }
+  float sized(float r, const char* name) const {
+    float k = r * top().scale;
+    if (!std::isfinite(k)) fail(std::string(name) + " is beyond float range once scaled");
+    if (r != 0 && !std::isnormal(k)) fail(std::string(name) + " underflows to zero once scaled");
+    return k;
+  }
+
+  void add(primitive p) {
     p.material = material_index();
-    p.line = l.number;
+    p.line = key.line;
     s.prims.push_back(p);
   }
 
-  void parse_material(const text_line& l) {
-    in.expect_count(l, 8, "material (f)");
+  void parse_material(const token& k) {
+    begin(k, "material (f)", 8);
     material m = current;
-    m.color = vec(l, 1, "material colour");
-    check_colour(l, m.color, "material colour", max_factor);
-    m.kd = num(l, 4, "Kd");
-    m.ks = num(l, 5, "Ks");
-    m.shine = num(l, 6, "Shine");
-    m.t = num(l, 7, "T");
-    m.ior = num(l, 8, "ior");
-    check_factor(l, m.kd, "Kd");
-    check_factor(l, m.ks, "Ks");
-    check_factor(l, m.t, "T");
-    if (m.t > 0 && m.ior <= 0) fail(l, "ior must be positive when T > 0");
+    m.color = vec(0, "material colour");
+    check_colour(m.color, "material colour", max_factor);
+    m.kd = num(3, "Kd");
+    m.ks = num(4, "Ks");
+    m.shine = num(5, "Shine");
+    m.t = num(6, "T");
+    m.ior = num(7, "ior");
+    check_factor(m.kd, "Kd");
+    check_factor(m.ks, "Ks");
+    check_factor(m.t, "T");
+    if (m.t > 0 && m.ior <= 0) fail("ior must be positive when T > 0");
     set_material(m);
   }
 
-  void parse_sphere(const text_line& l) {
-    in.expect_count(l, 4, "sphere");
+  void parse_sphere(const token& k) {
+    begin(k, "sphere", 4);
     primitive p;
     p.kind = prim_kind::sphere;
-    p.a = top().point(vec(l, 1, "sphere centre"));
-    p.r0 = num(l, 4, "sphere radius") * top().scale;
-    if (p.r0 == 0) fail(l, "sphere radius is zero");
-    add(p, l);
+    vec3 c = vec(0, "sphere centre");
+    float r = num(3, "sphere radius");
+    if (r == 0) fail("sphere radius is zero");
+    p.a = placed(c, "sphere centre");
+    p.r0 = sized(r, "sphere radius");
+    add(p);
   }
 
-  primitive cone_from(const text_line& l, const char* what) {
-    in.expect_count(l, 8, what);
+  primitive cone_from(const token& k, const char* name) {
+    begin(k, name, 8);
     primitive p;
     p.kind = prim_kind::cone;
-    vec3 base = vec(l, 1, "cone base"), apex = vec(l, 5, "cone apex");
-    float r0 = num(l, 4, "cone base radius"), r1 = num(l, 8, "cone apex radius");
-    if (r0 == 0 && r1 == 0) fail(l, "both cone radii are zero");
-    if ((r0 < 0 && r1 > 0) || (r0 > 0 && r1 < 0)) fail(l, "cone radii have opposite signs");
-    float len = glm::length(apex - base);
-    float size = std::max({std::fabs(r0), std::fabs(r1), glm::length(base), glm::length(apex), 1e-30f});
-    if (!(len > 1e-6f * size)) fail(l, "cone ends coincide");
-    p.a = top().point(base);
-    p.b = top().point(apex);
-    p.r0 = r0 * top().scale;
-    p.r1 = r1 * top().scale;
+    vec3 base = vec(0, "cone base"), apex = vec(4, "cone apex");
+    float r0 = num(3, "cone base radius"), r1 = num(7, "cone apex radius");
+    if (r0 == 0 && r1 == 0) fail("both cone radii are zero");
+    if ((r0 < 0 && r1 > 0) || (r0 > 0 && r1 < 0)) fail("cone radii have opposite signs");
+    p.a = placed(base, "cone base");
+    p.b = placed(apex, "cone apex");
+    p.r0 = r0 == 0 ? 0.0f : sized(r0, "cone base radius");
+    p.r1 = r1 == 0 ? 0.0f : sized(r1, "cone apex radius");
+    // Checked where the cone will be: ends that a transform pushes within rounding of each
+    // other are as degenerate as ends written equal.
+    double len = glm::length(glm::dvec3(p.b) - glm::dvec3(p.a));
+    double size = std::max({double(std::fabs(p.r0)), double(std::fabs(p.r1)), glm::length(glm::dvec3(p.a)),
+                            glm::length(glm::dvec3(p.b)), 1e-30});
+    if (!(len > 1e-6 * size)) fail("cone ends coincide");
     return p;
   }
 
-  void add_disk(const text_line& l, vec3 centre, vec3 normal, float radius) {
+  void add_disk(vec3 centre, vec3 normal, float radius) {
     primitive d;
     d.kind = prim_kind::disk;
     d.a = centre;
-    d.b = glm::normalize(normal);
+    d.b = unit_axis(normal);
     d.r0 = radius;
-    add(d, l);
+    add(d);
   }
 
-  void parse_polygon(const text_line& header, bool patch) {
-    const char* what = patch ? "patch (pp)" : "polygon (p)";
-    in.expect_count(header, 1, what);
-    long n = in.integer(header, 1, patch ? "patch vertex count" : "polygon vertex count", 3, 1000000);
+  void parse_polygon(const token& k, bool patch) {
+    key = k;
+    what = patch ? "patch (pp)" : "polygon (p)";
+    words.clear();
+    take(1, 1);
+    long n = integer(0, patch ? "patch vertex count" : "polygon vertex count", 3, 1000000);
+    const size_t per = patch ? 6 : 3;
+    words.clear();
+    for (long i = 0; i < n; ++i) {
+      for (size_t j = 0; j < per; ++j) {
+        const token& t = in.peek();
+        if (t.end() || is_keyword(t.text)) {
+          std::ostringstream m;
+          m << what << " ends early: expected " << n << " vertices (" << size_t(n) * per << " numbers), got "
+            << words.size() << (words.size() == 1 ? " number" : " numbers");
+          missing(m.str());
+        }
+        words.push_back(in.next());
+      }
+    }
+    if (looks_decimal(in.peek().text)) {
+      std::ostringstream m;
+      m << what << " of " << n << " vertices needs " << size_t(n) * per << " numbers after its count, got more";
+      fail(in.peek().line, m.str());
+    }
     primitive p;
     p.kind = patch ? prim_kind::patch : prim_kind::polygon;
     p.first = int(s.vertices.size());
     p.count = int(n);
-    text_line l;
     for (long i = 0; i < n; ++i) {
-      if (!in.next(l)) {
-        std::ostringstream m;
-        m << what << " ends early: expected " << n << " vertices, got " << i;
-        in.fail(in.last_line() ? in.last_line() : header.number, m.str());
-      }
-      size_t want = patch ? 6 : 3;
-      if (l.words.size() != want) {
-        std::ostringstream m;
-        m << (patch ? "patch vertex needs 6 numbers (point, normal), got " : "polygon vertex needs 3 numbers, got ")
-          << l.words.size();
-        if (!l.words.empty() && !looks_number(l.words[0])) m << " ('" << l.words[0] << "' is not a number)";
-        fail(l, m.str());
-      }
-      s.vertices.push_back(top().point(vec(l, 0, "vertex")));
+      size_t w = size_t(i) * per;
+      s.vertices.push_back(placed(vec(w, "vertex"), "vertex"));
       if (patch) {
-        vec3 nrm = vec(l, 3, "vertex normal");
-        if (nrm == vec3(0)) fail(l, "patch vertex normal is zero");
-        s.normals.push_back(glm::normalize(top().dir(nrm)));
+        vec3 nrm = vec(w + 3, "vertex normal");
+        if (nrm == vec3(0)) fail(words[w + 3].line, "patch vertex normal is zero");
+        s.normals.push_back(unit_axis(top().dir(unit_axis(nrm))));
       }
     }
-    check_polygon(header, p);
+    check_polygon(p);
     if (!patch) s.normals.resize(s.vertices.size(), vec3(0));
-    add(p, header);
-  }
-
-  static bool looks_number(std::string_view w) {
-    return !w.empty() && (std::isdigit(static_cast<unsigned char>(w[0])) || w[0] == '-' || w[0] == '+' || w[0] == '.');
+    add(p);
   }
 
   // whitted.md 2: the normal comes from the first two edges; every vertex lies in that plane.
-  void check_polygon(const text_line& l, const primitive& p) const {
+  void check_polygon(const primitive& p) const {
     const vec3* v = &s.vertices[size_t(p.first)];
     vec3 lo = v[0], hi = v[0];
     for (int i = 1; i < p.count; ++i) lo = glm::min(lo, v[i]), hi = glm::max(hi, v[i]);
-    double extent = glm::length(glm::dvec3(hi - lo));
+    double extent = glm::length(glm::dvec3(hi) - glm::dvec3(lo));
     glm::dvec3 e0 = glm::dvec3(v[1]) - glm::dvec3(v[0]), e1 = glm::dvec3(v[2]) - glm::dvec3(v[1]);
     glm::dvec3 n = glm::cross(e0, e1);
     double nl = glm::length(n);
     if (!(extent > 0) || !(nl > 1e-12 * extent * extent))
-      fail(l, "degenerate polygon: its first two edges are zero or collinear");
+      fail("degenerate polygon: its first two edges are zero or collinear");
     n /= nl;
     for (int i = 0; i < p.count; ++i) {
       double d = std::fabs(glm::dot(n, glm::dvec3(v[i]) - glm::dvec3(v[0])));
       if (d > 1e-3 * extent) {
         std::ostringstream m;
         m << "polygon is not planar: vertex " << i << " is " << d << " from the plane of the first edges";
-        fail(l, m.str());
+        fail(m.str());
       }
     }
   }
 
-  void parse_box(const text_line& l) {
-    in.expect_count(l, 6, "box");
-    vec3 lo = vec(l, 1, "box corner"), hi = vec(l, 4, "box corner");
-    vec3 size = glm::abs(hi - lo);
-    if (!(size.x > 0 && size.y > 0 && size.z > 0)) fail(l, "box has zero size along an axis");
+  void parse_box(const token& k) {
+    begin(k, "box", 6);
+    vec3 lo = vec(0, "box corner"), hi = vec(3, "box corner");
+    glm::dvec3 size = glm::abs(glm::dvec3(hi) - glm::dvec3(lo));
+    if (!(size.x > 0 && size.y > 0 && size.z > 0)) fail("box has zero size along an axis");
     primitive p;
     p.kind = prim_kind::box;
-    p.a = top().point((lo + hi) * 0.5f);
-    p.b = size * 0.5f * top().scale;
+    p.a = placed(vec3((glm::dvec3(lo) + glm::dvec3(hi)) * 0.5), "box centre");
+    vec3 half(size * 0.5);
+    p.b = {sized(half.x, "box size"), sized(half.y, "box size"), sized(half.z, "box size")};
     p.frame = top().rot;
-    add(p, l);
+    add(p);
   }
 
-  void parse_disk(const text_line& l) {
-    in.expect_count(l, 7, "disk");
-    vec3 c = vec(l, 1, "disk centre"), n = vec(l, 4, "disk normal");
-    float r = num(l, 7, "disk radius");
-    if (n == vec3(0)) fail(l, "disk normal is zero");
-    if (!(r > 0)) fail(l, "disk radius must be positive");
-    add_disk(l, top().point(c), top().dir(n), r * top().scale);
+  void parse_disk(const token& k) {
+    begin(k, "disk", 7);
+    vec3 c = vec(0, "disk centre"), n = vec(3, "disk normal");
+    float r = num(6, "disk radius");
+    if (n == vec3(0)) fail("disk normal is zero");
+    if (!(r > 0)) fail("disk radius must be positive");
+    add_disk(placed(c, "disk centre"), top().dir(unit_axis(n)), sized(r, "disk radius"));
   }
 
-  void parse_capped_cone(const text_line& l) {
-    primitive c = cone_from(l, "capped cone (cc)");
-    if (c.r0 < 0 || c.r1 < 0) fail(l, "capped cone radii must be non-negative");
-    add(c, l);
+  void parse_capped_cone(const token& k) {
+    primitive c = cone_from(k, "capped cone (cc)");
+    if (c.r0 < 0 || c.r1 < 0) fail("capped cone radii must be non-negative");
+    add(c);
     vec3 axis = c.b - c.a;
-    if (c.r0 > 0) add_disk(l, c.a, -axis, c.r0);
-    if (c.r1 > 0) add_disk(l, c.b, axis, c.r1);
+    if (!finite3(axis)) axis = vec3(glm::dvec3(c.b) - glm::dvec3(c.a));  // unit_axis needs only the direction
+    if (c.r0 > 0) add_disk(c.a, -axis, c.r0);
+    if (c.r1 > 0) add_disk(c.b, axis, c.r1);
   }
 
-  void parse_light(const text_line& l) {
-    size_t n = l.words.size() - 1;
-    if (n != 3 && n != 6) {
-      std::ostringstream m;
-      m << "light (l) needs 3 or 6 numbers, got " << n;
-      fail(l, m.str());
+  void parse_light(const token& k) {
+    key = k;
+    what = "light (l)";
+    words.clear();
+    take(3, 3);
+    // Three more numbers, when a number follows, are the light's colour.
+    if (!in.peek().end() && !is_keyword(in.peek().text)) {
+      for (int i = 0; i < 3; ++i) {
+        const token& t = in.peek();
+        if (t.end() || is_keyword(t.text)) {
+          std::ostringstream m;
+          m << "light (l) needs 3 or 6 numbers, got " << words.size();
+          missing(m.str());
+        }
+        words.push_back(in.next());
+      }
+    }
+    if (looks_decimal(in.peek().text)) {
+      const int line = in.peek().line;
+      size_t got = words.size();
+      while (looks_decimal(in.peek().text)) in.next(), ++got;
+      fail(line, "light (l) needs 3 or 6 numbers, got " + std::to_string(got));
     }
     light li;
-    li.position = top().point(vec(l, 1, "light position"));
-    if (n == 6) {
-      li.color = vec(l, 4, "light colour");
-      check_colour(l, li.color, "light colour");
+    li.position = placed(vec(0, "light position"), "light position");
+    if (words.size() == 6) {
+      li.color = vec(3, "light colour");
+      check_colour(li.color, "light colour");
       li.has_color = true;
     }
     s.lights.push_back(li);
   }
 
-  void parse_texture(const text_line& l) {
-    if (l.words.size() < 2) fail(l, "texture needs a kind: checker, image or none");
-    std::string_view kind = l.words[1];
+  void parse_texture(const token& k) {
+    key = k;
+    what = "texture";
+    words.clear();
+    const token kind_tok = in.next();
+    if (kind_tok.end() || is_keyword(kind_tok.text)) fail("texture needs a kind: checker, image or none");
+    std::string_view kind = kind_tok.text;
     material m = current;
     if (kind == "none") {
-      if (l.words.size() != 2) fail(l, "texture none takes no numbers");
+      what = "texture none";
+      no_more(0);
       m.texture = -1;
       set_material(m);
       return;
     }
     texture t;
     if (kind == "checker") {
-      if (l.words.size() != 10) {
-        std::ostringstream msg;
-        msg << "texture checker needs 8 numbers (two colours, two scales), got " << l.words.size() - 2;
-        fail(l, msg.str());
-      }
+      what = "texture checker (two colours, two scales)";
+      take(8, 8);
+      no_more(8);
       t.kind = texture_kind::checker;
-      t.color_a = vec(l, 2, "checker colour");
-      t.color_b = vec(l, 5, "checker colour");
-      check_colour(l, t.color_a, "checker colour", max_factor);
-      check_colour(l, t.color_b, "checker colour", max_factor);
-      t.scale = {num(l, 8, "texture scale"), num(l, 9, "texture scale")};
+      t.color_a = vec(0, "checker colour");
+      t.color_b = vec(3, "checker colour");
+      check_colour(t.color_a, "checker colour", max_factor);
+      check_colour(t.color_b, "checker colour", max_factor);
+      t.scale = {num(6, "texture scale"), num(7, "texture scale")};
     } else if (kind == "image") {
-      if (l.words.size() != 5) {
-        std::ostringstream msg;
-        msg << "texture image needs a file and two scales, got " << l.words.size() - 2 << " words";
-        fail(l, msg.str());
-      }
+      what = "texture image (a file, two scales)";
+      const token file = in.next();
+      if (file.end()) fail("texture image needs a file and two scales");
+      take(2, 2);
+      no_more(2);
       t.kind = texture_kind::image;
-      t.file = std::string(l.words[2]);
-      t.scale = {num(l, 3, "texture scale"), num(l, 4, "texture scale")};
-      load_image(l, t);
+      t.file = std::string(file.text);
+      t.scale = {num(0, "texture scale"), num(1, "texture scale")};
+      load_image(t);
     } else {
-      fail(l, "unknown texture kind '" + std::string(kind) + "' (checker, image or none)");
+      fail(kind_tok.line, "unknown texture kind " + quote_word(kind) + " (checker, image or none)");
     }
-    if (!(t.scale.x > 0 && t.scale.y > 0)) fail(l, "texture scales must be positive");
+    if (!(t.scale.x > 0 && t.scale.y > 0)) fail("texture scales must be positive");
     s.textures.push_back(std::move(t));
     m.texture = int(s.textures.size()) - 1;
     set_material(m);
   }
 
-  void load_image(const text_line& l, texture& t) {
+  // Texels decoded at most: 8192 x 8192 (768 MB as linear floats). A texture is looked up
+  // once per shaded point; larger ones add memory, not detail a frame can show.
+  static constexpr long long max_texels = 8192LL * 8192LL;
+  static constexpr std::size_t max_texture_bytes = std::size_t(512) << 20;
+
+  void load_image(texture& t) {
     std::filesystem::path p(t.file);
     if (p.is_relative() && !base_dir.empty()) p = std::filesystem::path(base_dir) / p;
+    const std::string shown = "texture file " + quote_word(t.file);
+    std::string bytes;
+    try {
+      bytes = read_input_file(p.string(), max_texture_bytes);
+    } catch (const input_error& e) {
+      fail(shown + " cannot be read: " + e.what_is_wrong);
+    }
+    const auto* data_in = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const int len = int(bytes.size());
     int w = 0, h = 0, comp = 0;
-    unsigned char* data = stbi_load(p.string().c_str(), &w, &h, &comp, 3);
-    if (!data) fail(l, "texture file '" + t.file + "' cannot be read: " + stbi_failure_reason());
+    auto reason = [] {  // stb's messages are short C strings; keep them printable
+      return quote_word(stbi_failure_reason() ? stbi_failure_reason() : "unknown format");
+    };
+    if (!stbi_info_from_memory(data_in, len, &w, &h, &comp)) fail(shown + " cannot be read: " + reason());
+    if (w <= 0 || h <= 0 || (long long)w * h > max_texels) {
+      std::ostringstream m;
+      m << shown << " is " << w << "x" << h << ", over the limit of " << max_texels << " texels (8192x8192)";
+      fail(m.str());
+    }
+    unsigned char* data = stbi_load_from_memory(data_in, len, &w, &h, &comp, 3);
+    if (!data) fail(shown + " cannot be read: " + reason());
     t.width = w;
     t.height = h;
     t.texels.resize(size_t(w) * size_t(h));
@@ -297,30 +438,35 @@ struct parser {
     stbi_image_free(data);
   }
 
-  void parse_transform(const text_line& l, std::string_view key) {
-    if (key == "push") {
-      in.expect_count(l, 0, "push");
-      if (stack.size() > 64) fail(l, "transforms nested deeper than 64");
+  void parse_transform(const token& k, std::string_view name) {
+    if (name == "push") {
+      begin(k, "push", 0);
+      if (stack.size() > 64) fail("transforms nested deeper than 64");
       stack.push_back(top());
-    } else if (key == "pop") {
-      in.expect_count(l, 0, "pop");
-      if (stack.size() == 1) fail(l, "pop without a matching push");
+    } else if (name == "pop") {
+      begin(k, "pop", 0);
+      if (stack.size() == 1) fail("pop without a matching push");
       stack.pop_back();
-    } else if (key == "translate") {
-      in.expect_count(l, 3, "translate");
-      stack.back().offset = top().point(vec(l, 1, "translation"));
-    } else if (key == "rotate") {
-      in.expect_count(l, 4, "rotate");
-      vec3 axis = vec(l, 1, "rotation axis");
-      float deg = num(l, 4, "rotation angle");
-      if (axis == vec3(0)) fail(l, "rotation axis is zero");
-      glm::mat3 r = rotation(glm::normalize(axis), glm::radians(deg));
+    } else if (name == "translate") {
+      begin(k, "translate", 3);
+      vec3 o = top().point(vec(0, "translation"));
+      if (!finite3(o)) fail("translation is beyond float range once composed with the enclosing transforms");
+      stack.back().offset = o;
+    } else if (name == "rotate") {
+      begin(k, "rotate", 4);
+      vec3 axis = vec(0, "rotation axis");
+      float deg = num(3, "rotation angle");
+      if (axis == vec3(0)) fail("rotation axis is zero");
+      glm::mat3 r = rotation(unit_axis(axis), glm::radians(deg));
       stack.back().rot = top().rot * r;
     } else {  // scale
-      in.expect_count(l, 1, "scale");
-      float k = num(l, 1, "scale");
-      if (!(k > 0)) fail(l, "scale must be positive (only uniform scaling keeps primitives analytic)");
-      stack.back().scale *= k;
+      begin(k, "scale", 1);
+      float f = num(0, "scale");
+      if (!(f > 0)) fail("scale must be positive (only uniform scaling keeps primitives analytic)");
+      float composed = top().scale * f;
+      if (!std::isfinite(composed)) fail("scale is beyond float range once composed with the enclosing scales");
+      if (!std::isnormal(composed)) fail("scale underflows to zero once composed with the enclosing scales");
+      stack.back().scale = composed;
     }
   }
 
@@ -332,26 +478,26 @@ struct parser {
                      t * a.x * a.z + s * a.y, t * a.y * a.z - s * a.x, t * a.z * a.z + c);
   }
 
-  void parse_view_line(const text_line& l, std::string_view key) {
+  void parse_view_word(const token& k, std::string_view name) {
     camera_view& v = s.view;
-    if (key == "from") in.expect_count(l, 3, "from"), v.from = vec(l, 1, "from"), saw_from = true;
-    else if (key == "at") in.expect_count(l, 3, "at"), v.at = vec(l, 1, "at"), saw_at = true;
-    else if (key == "up") in.expect_count(l, 3, "up"), v.up = vec(l, 1, "up"), saw_up = true;
-    else if (key == "angle") {
-      in.expect_count(l, 1, "angle");
-      v.angle = num(l, 1, "angle");
-      if (!(v.angle > 0 && v.angle < 180)) fail(l, "angle must be between 0 and 180 degrees");
+    if (name == "from") begin(k, "from", 3), v.from = vec(0, "from"), saw_from = true;
+    else if (name == "at") begin(k, "at", 3), v.at = vec(0, "at"), saw_at = true;
+    else if (name == "up") begin(k, "up", 3), v.up = vec(0, "up"), saw_up = true;
+    else if (name == "angle") {
+      begin(k, "angle", 1);
+      v.angle = num(0, "angle");
+      if (!(v.angle > 0 && v.angle < 180)) fail("angle must be between 0 and 180 degrees");
       saw_angle = true;
-    } else if (key == "hither") {
-      in.expect_count(l, 1, "hither");
-      num(l, 1, "hither");  // checked, then ignored (whitted.md 1)
+    } else if (name == "hither") {
+      begin(k, "hither", 1);
+      num(0, "hither");  // checked, then ignored (whitted.md 1)
     } else {  // resolution
-      in.expect_count(l, 2, "resolution");
-      v.width = int(in.integer(l, 1, "resolution width", 1, 16384));
-      v.height = int(in.integer(l, 2, "resolution height", 2, 16384));
+      begin(k, "resolution", 2);
+      v.width = int(integer(0, "resolution width", 1, 16384));
+      v.height = int(integer(1, "resolution height", 2, 16384));
       saw_res = true;
     }
-    if (view_line == 0) view_line = l.number;
+    if (view_line == 0) view_line = k.line;
   }
 
   void finish() {
@@ -359,13 +505,13 @@ struct parser {
     if (in.last_line() == 0) in.fail(1, "empty scene file");
     if (s.prims.empty()) in.fail(end, "scene has no primitives");
     if (!(saw_from && saw_at && saw_up && saw_angle && saw_res)) {
-      std::string missing;
-      if (!saw_from) missing += " from";
-      if (!saw_at) missing += " at";
-      if (!saw_up) missing += " up";
-      if (!saw_angle) missing += " angle";
-      if (!saw_res) missing += " resolution";
-      in.fail(view_line ? view_line : end, "viewpoint is missing:" + missing);
+      std::string missing_words;
+      if (!saw_from) missing_words += " from";
+      if (!saw_at) missing_words += " at";
+      if (!saw_up) missing_words += " up";
+      if (!saw_angle) missing_words += " angle";
+      if (!saw_res) missing_words += " resolution";
+      in.fail(view_line ? view_line : end, "viewpoint is missing:" + missing_words);
     }
     if (const char* problem = view_problem(s.view)) in.fail(view_line, std::string("viewpoint: ") + problem);
     if (s.materials.empty()) s.materials.push_back(current);
@@ -373,34 +519,36 @@ struct parser {
   }
 
   void run() {
-    text_line l;
-    while (in.next(l)) {
-      std::string_view key = l.words[0];
-      if (key == "v") in.expect_count(l, 0, "v"), view_line = l.number;
-      else if (key == "from" || key == "at" || key == "up" || key == "angle" || key == "hither" || key == "resolution")
-        parse_view_line(l, key);
-      else if (key == "b") {
-        in.expect_count(l, 3, "background (b)");
-        s.background = vec(l, 1, "background colour");
-        check_colour(l, s.background, "background colour");
-      } else if (key == "l") parse_light(l);
-      else if (key == "f") parse_material(l);
-      else if (key == "s") parse_sphere(l);
-      else if (key == "c") { primitive c = cone_from(l, "cone (c)"); add(c, l); }
-      else if (key == "p") parse_polygon(l, false);
-      else if (key == "pp") parse_polygon(l, true);
-      else if (key == "box") parse_box(l);
-      else if (key == "disk") parse_disk(l);
-      else if (key == "cc") parse_capped_cone(l);
-      else if (key == "texture") parse_texture(l);
-      else if (key == "ambient") {
-        in.expect_count(l, 3, "ambient");
-        s.ambient = vec(l, 1, "ambient colour");
-        check_colour(l, s.ambient, "ambient colour");
+    while (!in.peek().end()) {
+      const token k = in.next();
+      std::string_view name = k.text;
+      if (name == "v") begin(k, "v", 0), view_line = k.line;
+      else if (name == "from" || name == "at" || name == "up" || name == "angle" || name == "hither" ||
+               name == "resolution")
+        parse_view_word(k, name);
+      else if (name == "b") {
+        begin(k, "background (b)", 3);
+        s.background = vec(0, "background colour");
+        check_colour(s.background, "background colour");
+      } else if (name == "l") parse_light(k);
+      else if (name == "f") parse_material(k);
+      else if (name == "s") parse_sphere(k);
+      else if (name == "c") { primitive c = cone_from(k, "cone (c)"); add(c); }
+      else if (name == "p") parse_polygon(k, false);
+      else if (name == "pp") parse_polygon(k, true);
+      else if (name == "box") parse_box(k);
+      else if (name == "disk") parse_disk(k);
+      else if (name == "cc") parse_capped_cone(k);
+      else if (name == "texture") parse_texture(k);
+      else if (name == "ambient") {
+        begin(k, "ambient", 3);
+        s.ambient = vec(0, "ambient colour");
+        check_colour(s.ambient, "ambient colour");
         s.has_ambient = true;
-      } else if (key == "push" || key == "pop" || key == "translate" || key == "rotate" || key == "scale")
-        parse_transform(l, key);
-      else fail(l, "unknown entity '" + std::string(key) + "'");
+      } else if (name == "push" || name == "pop" || name == "translate" || name == "rotate" || name == "scale")
+        parse_transform(k, name);
+      else if (looks_decimal(name)) fail(k.line, "number " + quote_word(name) + " where an entity was expected");
+      else fail(k.line, "unknown entity " + quote_word(name));
     }
     finish();
   }
