@@ -162,6 +162,35 @@ TEST(Shade, SphereDiffuseHighlightAmbientAgainstClosedForm) {
   EXPECT_GT(background, 100);
 }
 
+// A sky dome: a sphere around the eye whose radius (1e20, 1e30) squares past float's
+// range. It is seen from inside, lit by a light near the eye, at every scale float holds.
+TEST(Shade, SkyDomeAroundTheEyeIsLitAtAnyScale) {
+  for (const char* radius : {"1e6", "1e18", "1e20", "1e30", "3e38"}) {
+    SCOPED_TRACE(radius);
+    fixture f(std::string("b 0.1 0.2 0.3\n"
+                          "v\nfrom 0 0 0\nat 0 0.2 -1\nup 0 1 0\nangle 60\nresolution 9 9\n"
+                          "l 0 1 0 0.9 0.7 0.5\n"
+                          "f 0.8 0.5 0.3 0.6 0 0 0 1\n"
+                          "s 0 0 0 ") + radius + "\n");
+    const double R = std::strtod(radius, nullptr);
+    const dvec3 colour(0.8f, 0.5f, 0.3f);
+    const double kd = double(0.6f);
+    const std::vector<dlight> lights{{dvec3(0, 1, 0), dvec3(0.9f, 0.7f, 0.5f)}};
+    for (int y = 0; y < f.cam.height; ++y) {
+      for (int x = 0; x < f.cam.width; ++x) {
+        const dvec3 d = spec_dir(f.dc, x, y);
+        double t, margin;
+        ASSERT_TRUE(sphere_hit(f.dc.o, d, dvec3(0), R, t, margin));
+        const dvec3 p = f.dc.o + t * d, nf = -p / R;  // seen from inside: the normal faces the centre
+        const dvec3 want = local_shade(p, nf, d, colour, kd, 0, 0, dvec3(0.5), lights);
+        traced tr = trace_pixel(f.w, f.cam, x, y);
+        EXPECT_TRUE(near_rel(tr.L, want, 1e-4)) << "pixel " << x << "," << y;
+        EXPECT_GT(tr.L.x, 0.3f) << "the dome is lit, not black";
+      }
+    }
+  }
+}
+
 TEST(Shade, BackgroundOnMiss) {
   fixture f(
       "b 0.25 0.5 0.75\n"

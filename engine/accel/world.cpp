@@ -132,7 +132,8 @@ world make_world(scene s) {
   for (size_t i = 0; i < w.info.size(); ++i) w.uv_frames[i] = fixed_uv_frame(s, s.prims[size_t(w.info[i].source)]);
   w.ambient = scene_ambient(s);
   w.background = s.background;
-  w.delta = 1e-4f * glm::length(w.box.extent());
+  // The diagonal in double: a sky dome's (2e20 a side) squares past float's range.
+  w.delta = w.box.empty() ? 0.0f : float(1e-4 * glm::length(glm::dvec3(w.box.hi) - glm::dvec3(w.box.lo)));
   w.sc = std::move(s);
   return w;
 }

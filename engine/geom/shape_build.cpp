@@ -133,7 +133,7 @@ shape make_shape(const scene& s, const primitive& p, polygon_data& pd) {
     }
     case prim_kind::disk:
       out.kind = shape_kind::disk;
-      out.disk = {p.a, p.b, p.r0 * p.r0};
+      out.disk = {p.a, p.b, p.r0};
       break;
     case prim_kind::box:
       out.kind = shape_kind::box;

@@ -27,7 +27,7 @@ struct polygon_geom {                                  // n-gon, even-odd rule i
   float v0, inv_band;                                  // band of v: (v - v0) * inv_band
 };
 struct cone_geom { vec3 base, axis; float h, r0, k; };  // radius r0 + k z, z in [0, h], r >= 0
-struct disk_geom { vec3 c, n; float r2; };
+struct disk_geom { vec3 c, n; float r; };             // r, not r^2: r^2 leaves float range for r > 1.8e19
 struct box_geom { vec3 c, ax0, ax1, ax2, half; };      // oriented box
 
 struct shape {
@@ -46,20 +46,22 @@ static_assert(sizeof(shape) <= 64, "one cache line per primitive");
 
 inline bool hit_sphere(const sphere_geom& s, const ray& r, float tmax, float& t) {
   // Distance from the centre to the line, computed directly: far more accurate than b^2 - c
-  // for small spheres seen from afar (Ray Tracing Gems, ch. 7).
-  vec3 oc = r.o - s.c;
-  float b = glm::dot(oc, r.d);
-  vec3 f = oc - b * r.d;
-  float r2 = s.r * s.r;
-  float disc = r2 - glm::dot(f, f);
+  // for small spheres seen from afar (Ray Tracing Gems, ch. 7). In double: r^2 of a sky
+  // dome of radius 1e20, or of a sphere of radius 1e-30, is beyond float's range.
+  using d3 = glm::dvec3;
+  const d3 oc = d3(r.o) - d3(s.c), dir(r.d);
+  const double b = glm::dot(oc, dir);
+  const d3 f = oc - b * dir;
+  const double r2 = double(s.r) * double(s.r);
+  const double disc = r2 - glm::dot(f, f);
   if (disc < 0) return false;
-  float sq = std::sqrt(disc);
-  float c = glm::dot(oc, oc) - r2;
-  float q = -b - std::copysign(sq, b);
-  float t0 = q != 0 ? c / q : 0, t1 = q;
+  const double sq = std::sqrt(disc);
+  const double c = glm::dot(oc, oc) - r2;
+  const double q = -b - std::copysign(sq, b);
+  double t0 = q != 0 ? c / q : 0, t1 = q;
   if (t0 > t1) std::swap(t0, t1);
-  if (t0 > 0 && t0 < tmax) return t = t0, true;
-  if (t1 > 0 && t1 < tmax) return t = t1, true;
+  if (t0 > 0 && t0 < double(tmax) && float(t0) > 0) return t = float(t0), true;
+  if (t1 > 0 && t1 < double(tmax) && float(t1) > 0) return t = float(t1), true;
   return false;
 }
 
@@ -167,8 +169,9 @@ inline bool hit_disk(const disk_geom& g, const ray& r, float tmax, float& t) {
   if (dn == 0) return false;
   float tt = glm::dot(g.c - r.o, g.n) / dn;
   if (!(tt > 0 && tt < tmax)) return false;
-  vec3 p = r.o + tt * r.d - g.c;
-  if (glm::dot(p, p) > g.r2) return false;
+  // The rim test in double: |p|^2 of a disk of radius 1e20 overflows float.
+  const glm::dvec3 p = glm::dvec3(r.o) + double(tt) * glm::dvec3(r.d) - glm::dvec3(g.c);
+  if (glm::dot(p, p) > double(g.r) * double(g.r)) return false;
   t = tt;
   return true;
 }

@@ -242,8 +242,8 @@ bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye) {
     case shape_kind::polygon:
     case shape_kind::disk: return true;
     case shape_kind::sphere: {
-      glm::vec3 q = eye - s.sphere.c;
-      return glm::dot(q, q) > s.sphere.r * s.sphere.r * 1.0001f;
+      const glm::dvec3 q = glm::dvec3(eye) - glm::dvec3(s.sphere.c);  // double: r^2 may leave float's range
+      return glm::dot(q, q) > double(s.sphere.r) * double(s.sphere.r) * 1.0001;
     }
     case shape_kind::box: {
       glm::vec3 q = eye - s.box.c;

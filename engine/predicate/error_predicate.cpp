@@ -252,7 +252,7 @@ struct evaluator {
         if (dn == 0) return false;
         double t = glm::dot(c - o, n) / dn;
         glm::dvec3 q = o + t * seg - c;
-        return t > m && t < 1 - m && glm::dot(q, q) < double(sh.disk.r2) * (1 - 2 * m);
+        return t > m && t < 1 - m && glm::dot(q, q) < double(sh.disk.r) * double(sh.disk.r) * (1 - 2 * m);
       }
       case shape_kind::cone: {
         // Does the segment meet the (convex) solid frustum, shrunken by the margin? Whether

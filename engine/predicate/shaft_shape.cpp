@@ -52,7 +52,7 @@ span extent(const world& w, int prim, dvec3 n) {
       break;
     }
     case shape_kind::disk:
-      out.add(glm::dot(n, dv(sh.disk.c)), rim_reach(n, dv(sh.disk.n), std::sqrt(double(sh.disk.r2))));
+      out.add(glm::dot(n, dv(sh.disk.c)), rim_reach(n, dv(sh.disk.n), double(sh.disk.r)));
       break;
     case shape_kind::box: {
       const box_geom& g = sh.box;

@@ -56,7 +56,7 @@ surface surface_at(const world& w, int prim, const ray& r, float t) {
     case shape_kind::cone: {
       vec3 q = out.p - sh.cone.base;
       vec3 radial = q - glm::dot(q, sh.cone.axis) * sh.cone.axis;
-      float rl = glm::length(radial);
+      float rl = safe_length(radial);
       vec3 ru = rl > 0 ? radial / rl : perpendicular(sh.cone.axis);
       out.ng = ru - sh.cone.k * sh.cone.axis;  // gradient of distance-to-axis minus radius
       const primitive& pr = w.sc.prims[size_t(w.info[size_t(prim)].source)];
@@ -79,12 +79,12 @@ vec2 surface_uv(const world& w, int prim, vec3 p) {
   const primitive& pr = s.prims[size_t(w.info[size_t(prim)].source)];
   switch (pr.kind) {
     case prim_kind::sphere: {
-      vec3 d = glm::normalize(p - pr.a);
+      vec3 d = safe_normalize(p - pr.a);
       float r = std::fabs(pr.r0);
       return {(std::atan2(d.y, d.x) + pi) * r, std::acos(std::clamp(d.z, -1.0f, 1.0f)) * r};
     }
     case prim_kind::cone: {
-      vec3 axis = glm::normalize(pr.b - pr.a);
+      vec3 axis = safe_normalize(pr.b - pr.a);
       vec3 e1 = perpendicular(axis), e2 = glm::cross(axis, e1);
       vec3 q = p - pr.a;
       float ang = std::atan2(glm::dot(q, e2), glm::dot(q, e1)) + pi;

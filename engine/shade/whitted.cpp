@@ -48,12 +48,12 @@ template <class Blocker>
 inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above, vec3 nf, vec3 v, size_t j,
                            trace_state& st, Blocker&& blocker_of) {
   light_term out;
-  const vec3 lj = glm::normalize(w.light_pos[j] - p);
+  const vec3 lj = safe_normalize(w.light_pos[j] - p);
   out.ndl = glm::dot(nf, lj);
   if (!(out.ndl > 0)) return out;
   ++st.counts.shadow;
   vec3 so = w.light_pos[j] - above;
-  float dist = glm::length(so);
+  float dist = safe_length(so);
   int blocker = dist > 0 ? blocker_of(make_ray(above, so / dist), dist) : -1;
   out.status = blocker >= 0 ? w.info[size_t(blocker)].source : light_lit;
   if (blocker < 0) out.spec = specular_power(m, nf, lj, v);
@@ -62,7 +62,7 @@ inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above
 
 // Light j's term where it reaches the point, as light_at's caller adds it when lit.
 inline vec3 unshadowed_term(const world& w, const material& m, vec3 kd_c, vec3 p, vec3 nf, vec3 v, size_t j) {
-  const vec3 lj = glm::normalize(w.light_pos[j] - p);
+  const vec3 lj = safe_normalize(w.light_pos[j] - p);
   const float ndl = glm::dot(nf, lj);
   return ndl > 0 ? lit_term(w, m, kd_c, j, ndl, specular_power(m, nf, lj, v)) : vec3{0};
 }
