@@ -16,6 +16,9 @@ struct usage_error : std::runtime_error {
 
 struct cli_options {
   std::string command;  // render, walk, view, info
+  bool help = false;    // SUBCOMMAND --help (or -h): print usage_text(command), exit 0
+  // The argument list as given, with "epsray" for the executable (the stats' provenance).
+  std::vector<std::string> command_line;
   std::string scene;
   std::string path;
   std::optional<int> frame;
@@ -25,6 +28,7 @@ struct cli_options {
   int threads = 0;  // 0: all hardware threads
   int tile_rows = 0;
   tile_order order = tile_order::costly_first;
+  // render: png is SCENE-STEM.png in the current folder when neither --png nor --pfm is given.
   std::string png, pfm, stats, out_dir, reasons;
   std::string record, script, screenshot;  // view only
   // The interpolation knobs start at the engine's defaults (interp_params), stated once.
@@ -42,7 +46,13 @@ struct cli_options {
   bool png_flag = false, pfm_flag = false, verify = false, quiet = false;
 };
 
+// args: the command line without the executable. Accepts `--flag value` and `--flag=value`.
 cli_options parse_args(const std::vector<std::string>& args);
+// The overall usage (epsray --help), or one subcommand's flags with their defaults.
 std::string usage_text();
+std::string usage_text(const std::string& command);
+// A file name as usage messages quote it: 'name', or C-escaped in double quotes when it
+// holds control characters, so the message stays one line.
+std::string quote_file(const std::string& name);
 
 }  // namespace epsray

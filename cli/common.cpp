@@ -3,11 +3,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 #include <unistd.h>
 
-#include "scene/input_error.h"
+#include "image/image_io.h"
 
 namespace epsray {
 
@@ -20,45 +19,38 @@ bool writable_folder(const std::filesystem::path& dir) {
 }  // namespace
 
 void check_writable(const std::string& file, const char* flag) {
+  namespace fs = std::filesystem;
   if (file.empty()) return;
-  std::filesystem::path dir = std::filesystem::path(file).parent_path();
+  const std::string bad = std::string("epsray: bad ") + flag + " " + quote_file(file) + ": ";
+  // A device, a FIFO or /dev/stdout is written in place (write_atomically): it must be
+  // writable itself, whatever its folder.
+  if (written_in_place(file)) {
+    if (::access(file.c_str(), W_OK) != 0) throw usage_error(bad + "not writable");
+    return;
+  }
+  fs::path dir = fs::path(file).parent_path();
   if (dir.empty()) dir = ".";
   if (!writable_folder(dir))
-    throw usage_error(std::string("epsray: bad ") + flag + " '" + file + "': folder '" + dir.string() +
-                      "' does not exist or is not writable");
-  if (std::filesystem::is_directory(file))
-    throw usage_error(std::string("epsray: bad ") + flag + " '" + file + "': is a folder");
+    throw usage_error(bad + "folder " + quote_file(dir.string()) + " does not exist or is not writable");
+  if (fs::is_directory(file)) throw usage_error(bad + "is a folder");
 }
 
 void check_out_dir(const std::string& dir) {
   if (dir.empty()) return;
   std::filesystem::path p(dir);
+  const std::string bad = "epsray: bad --out-dir " + quote_file(dir) + ": ";
   if (std::filesystem::exists(p)) {
-    if (!writable_folder(p))
-      throw usage_error("epsray: bad --out-dir '" + dir + "': not a writable folder");
+    if (!writable_folder(p)) throw usage_error(bad + "not a writable folder");
     return;
   }
   std::filesystem::path parent = p.parent_path();
   if (parent.empty()) parent = ".";
   if (!writable_folder(parent))
-    throw usage_error("epsray: bad --out-dir '" + dir + "': folder '" + parent.string() +
-                      "' does not exist or is not writable");
+    throw usage_error(bad + "folder " + quote_file(parent.string()) + " does not exist or is not writable");
 }
 
 void write_text_file(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp);
-    out << text;
-    if (!out.flush()) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error(path + ": cannot write");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot write");
-  }
+  write_atomically(path, [&](std::FILE* f) { return std::fwrite(text.data(), 1, text.size(), f) == text.size(); });
 }
 
 // Every command is built now (view landed with issue 6); the hook stays for the next one.

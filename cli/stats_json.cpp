@@ -4,8 +4,49 @@
 #include <nlohmann/json.hpp>
 
 #include "common.h"
+#include "sched/topology.h"
+#include "version.h"
 
 namespace epsray {
+
+namespace {
+
+// The CPU's model as /proc/cpuinfo names it (x86: "model name"; some ARM kernels:
+// "Model" or "Hardware"), or "unknown".
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    const size_t colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    std::string key = line.substr(0, colon);
+    key.erase(key.find_last_not_of(" \t") + 1);
+    if (key != "model name" && key != "Model" && key != "Hardware") continue;
+    const size_t start = line.find_first_not_of(" \t", colon + 1);
+    if (start != std::string::npos) return line.substr(start);
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+frame_record make_frame_record(int index, const frame_result& fr, const verify_result* vr) {
+  frame_record r{index, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms,
+                 fr.ahead_ms, fr.ahead_wait_ms, fr.shade, fr.after_ms};
+  if (vr) {
+    r.verified = true, r.max_rel_err = vr->max_rel_err, r.p999_rel_err = vr->p999_rel_err;
+    r.mean_rel_err = vr->mean_rel_err, r.violations = vr->violations;
+  }
+  return r;
+}
+
+run_record make_run_record(const cli_options& o, int width, int height, int threads) {
+  run_record r;
+  r.scene = o.scene, r.mode = mode_name(o.mode), r.width = width, r.height = height, r.threads = threads;
+  r.eps = o.eps;
+  r.command = o.command_line;
+  return r;
+}
 
 std::uint64_t peak_memory_bytes() {
   std::ifstream in("/proc/self/status");
@@ -54,7 +95,14 @@ void write_stats_json(const run_record& r, const std::string& path) {
   }
   j["total_ms"] = r.total_ms;
   j["peak_memory_bytes"] = r.peak_memory_bytes;
-  write_text_file(path, j.dump(2) + "\n");
+  j["interrupted"] = r.interrupted;
+  j["epsray_version"] = epsray_version();
+  j["command"] = r.command;
+  j["machine"] = {{"cpu", cpu_model()},
+                  {"hardware_threads", hardware_threads()},
+                  {"topology", discover_topology().summary()}};
+  // Invalid UTF-8 (a file name's bytes) is replaced, not a reason to lose the run.
+  write_text_file(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 }  // namespace epsray

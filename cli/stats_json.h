@@ -3,7 +3,9 @@
 #include <string>
 #include <vector>
 
+#include "args.h"
 #include "sched/frame_render.h"
+#include "sched/verify.h"
 
 namespace epsray {
 
@@ -23,15 +25,25 @@ struct frame_record {
   std::uint64_t violations = 0;
 };
 
+// Frame `index`'s record; with vr (--verify), its errors.
+frame_record make_frame_record(int index, const frame_result& fr, const verify_result* vr);
+
 struct run_record {
   std::string scene, mode;
   int width = 0, height = 0, threads = 0;
   float eps = 0;
+  std::vector<std::string> command;  // the provenance's argument list, "epsray" first
   std::vector<frame_record> frames;
   double total_ms = 0;
   std::uint64_t peak_memory_bytes = 0;
+  bool interrupted = false;  // walk stopped by SIGINT or SIGTERM: frames holds those done
 };
 
+// A run's record before its frames: what the options and the image size say.
+run_record make_run_record(const cli_options& o, int width, int height, int threads);
+
+// The JSON, with the provenance: epsray_version, command, machine (cpu, hardware_threads,
+// topology). Written whole or not at all; throws std::runtime_error when it cannot.
 void write_stats_json(const run_record& r, const std::string& path);
 std::uint64_t peak_memory_bytes();
 

@@ -5,11 +5,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <unistd.h>
 
 #include "accel/world.h"
 #include "common.h"
 #include "image/image_io.h"
+#include "interrupt.h"
+#include "outputs.h"
+#include "progress.h"
+#include "scene/input_error.h"
 #include "scene/nff.h"
 #include "scene/path_file.h"
 #include "sched/verify.h"
@@ -18,16 +21,6 @@
 namespace epsray {
 
 namespace {
-
-// One line redrawn in place on a terminal; nothing when stderr is a file or a pipe.
-void progress(int done, int total, double last_ms) {
-  constexpr int width = 30;
-  int filled = total ? done * width / total : width;
-  std::fprintf(stderr, "\r[%.*s%*s] %d/%d frames, last %.0f ms", filled, "##############################",
-               width - filled, "", done, total, last_ms);
-  if (done == total) std::fputc('\n', stderr);
-  std::fflush(stderr);
-}
 
 std::string frame_file(const std::string& dir, int k, const char* ext) {
   char name[32];
@@ -52,21 +45,26 @@ int run_walk(const cli_options& o) {
   const int threads = o.threads ? o.threads : hardware_threads();
   workers pool(threads, o.pin);
   pool.warm_up();
-  const bool bar = !o.quiet && ::isatty(STDERR_FILENO);
-  if (!o.out_dir.empty()) std::filesystem::create_directories(o.out_dir);
+  output_files outs;  // removed again if the walk fails before its stats are written
+  if (!o.out_dir.empty()) {
+    outs.made_folder(o.out_dir);
+    std::filesystem::create_directories(o.out_dir);
+  }
 
   auto t0 = std::chrono::steady_clock::now();
   world w = make_world(std::move(sc));
   std::unique_ptr<linetree_set> trees = make_linetrees(o, w);
   frame_params fp = make_frame_params(o, trees.get(), &reproj);
 
-  run_record rec;
-  rec.scene = o.scene, rec.mode = mode_name(o.mode), rec.width = width, rec.height = height, rec.threads = threads;
-  rec.eps = o.eps;
+  run_record rec = make_run_record(o, width, height, threads);
   double io_ms = 0;  // file writing is not part of total_ms (contract)
   const int count = int(path.frames.size());
+  progress_line bar(o.quiet);
+  bar.show(0, count, "frames", -1);
+  const auto frames_start = std::chrono::steady_clock::now();
   camera last;  // the previous frame's
-  for (int k = 0; k < count; ++k) {
+  int stopped = 0;  // the signal that ended the walk early
+  for (int k = 0; k < count && !(stopped = interrupt_signal()); ++k) {
     const camera cam = make_camera(path.frames[size_t(k)], width, height);
     fp.camera_moving = k > 0 && !same_camera(cam, last);
     // --pipeline: the next frame's reprojection is prepared while this one is shaded.
@@ -75,23 +73,31 @@ int run_walk(const cli_options& o) {
     last = cam;
     frame_result fr = render_frame(pool, w, cam, fp);
     check_finite(fr.img);
-    frame_record r{k, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms,
-                   fr.ahead_ms, fr.ahead_wait_ms, fr.shade, fr.after_ms};
-    if (o.verify) {
-      verify_result vr = verify_frame(pool, w, cam, fr.img, o.eps);
-      r.verified = true, r.max_rel_err = vr.max_rel_err, r.p999_rel_err = vr.p999_rel_err, r.mean_rel_err = vr.mean_rel_err;
-      r.violations = vr.violations;
-    }
-    rec.frames.push_back(r);
+    verify_result vr;
+    if (o.verify && !interrupt_signal()) vr = verify_frame(pool, w, cam, fr.img, o.eps);
+    // Interrupted meanwhile: the frame in hand is abandoned, the ones before it stay.
+    if ((stopped = interrupt_signal())) break;
+    rec.frames.push_back(make_frame_record(k, fr, o.verify ? &vr : nullptr));
     auto io0 = std::chrono::steady_clock::now();
-    if (o.png_flag) write_png(fr.img, frame_file(o.out_dir, k, "png"));
-    if (o.pfm_flag) write_pfm(fr.img, frame_file(o.out_dir, k, "pfm"));
+    const std::string png = frame_file(o.out_dir, k, "png"), pfm = frame_file(o.out_dir, k, "pfm");
+    if (o.png_flag) write_png(fr.img, png), outs.wrote(png);
+    if (o.pfm_flag) write_pfm(fr.img, pfm), outs.wrote(pfm);
     io_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - io0).count();
-    if (bar) progress(k + 1, count, fr.ms);
+    const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - frames_start).count();
+    char what[64];
+    std::snprintf(what, sizeof what, "frames, last %.0f ms", fr.ms);
+    bar.show(k + 1, count, what, k + 1 < count ? spent / (k + 1) * (count - k - 1) : -1);
   }
+  bar.finish();
   rec.total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - io_ms;
   rec.peak_memory_bytes = peak_memory_bytes();
-  if (!o.stats.empty()) write_stats_json(rec, o.stats);
+  rec.interrupted = stopped != 0;
+  if (!o.stats.empty()) write_stats_json(rec, o.stats), outs.wrote(o.stats);
+  outs.keep();
+  const int done = int(rec.frames.size());
+  if (stopped)
+    std::fprintf(stderr, "epsray: interrupted by %s after %d of %d frames; those and their stats are kept\n",
+                 signal_name(stopped), done, count);
 
   if (!o.quiet) {
     std::vector<double> ms;
@@ -103,9 +109,9 @@ int run_walk(const cli_options& o) {
       mem = std::max<std::uint64_t>(mem, r.memory_bytes), lt_mem = std::max<std::uint64_t>(lt_mem, r.linetree_bytes);
     }
     std::sort(ms.begin(), ms.end());
-    const double all = double(px.fast + px.interp + px.base);
-    std::printf("%s: %d frames at %dx%d, mode %s, eps %g, %d threads\n", o.scene.c_str(), count, width, height,
-                mode_name(o.mode), double(o.eps), threads);
+    const double all = std::max(1.0, double(px.fast + px.interp + px.base));  // 1: interrupted before a frame
+    std::printf("%s: %d frames at %dx%d, mode %s, eps %g, %d threads\n", printable_name(o.scene).c_str(), done, width,
+                height, mode_name(o.mode), double(o.eps), threads);
     std::printf("median frame %.1f ms, total %.1f ms; pixels fast %.1f%% interp %.1f%% base %.1f%% "
                 "(with per-pixel rays %.1f%%); memory %.1f MB (linetrees %.1f MB)\n",
                 ms.empty() ? 0.0 : ms[ms.size() / 2], rec.total_ms, 100 * double(px.fast) / all,
@@ -114,10 +120,11 @@ int run_walk(const cli_options& o) {
     if (o.verify)
       std::printf("verify: max error %.4g, %llu pixels over eps %g\n", max_err, (unsigned long long)over,
                   double(o.eps));
-    if (!o.out_dir.empty() && (o.png_flag || o.pfm_flag)) std::printf("wrote %s/frame_*\n", o.out_dir.c_str());
-    if (!o.stats.empty()) std::printf("wrote %s\n", o.stats.c_str());
+    if (!o.out_dir.empty() && (o.png_flag || o.pfm_flag))
+      std::printf("wrote %s/frame_*\n", printable_name(o.out_dir).c_str());
+    if (!o.stats.empty()) std::printf("wrote %s\n", printable_name(o.stats).c_str());
   }
-  return 0;
+  return stopped ? interrupted_exit_code(stopped) : 0;
 }
 
 }  // namespace epsray

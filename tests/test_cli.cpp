@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cstring>
 #include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -210,7 +212,27 @@ INSTANTIATE_TEST_SUITE_P(
                   {"walk", "good.nff", "--path", "two.path", "--out-dir", "no-such-dir/f", "--png"}, "no-such-dir"},
         bad_flags{"walk_png_without_out_dir", {"walk", "good.nff", "--path", "two.path", "--png"}, "--out-dir"},
         bad_flags{"walk_bad_scene_file", {"walk", "none.nff", "--path", "two.path", "--out-dir", "f", "--png"},
-                  "none.nff"}),
+                  "none.nff"},
+        // An empty file name is a bad value, not "no such output".
+        bad_flags{"png_empty", render_args({"--png", ""}), "--png ''"},
+        bad_flags{"pfm_empty_joined", render_args({"--pfm="}), "--pfm ''"},
+        bad_flags{"stats_empty", render_args({"--stats", ""}), "--stats ''"},
+        bad_flags{"reasons_empty", render_args({"--reasons", ""}), "--reasons ''"},
+        bad_flags{"path_empty", render_args({"--path", ""}), "--path ''"},
+        bad_flags{"scene_empty", {"render", "", "--png", "out.png"}, "SCENE ''"},
+        bad_flags{"walk_out_dir_empty", {"walk", "good.nff", "--path", "two.path", "--out-dir", "", "--png"},
+                  "--out-dir ''"},
+        bad_flags{"walk_stats_empty", {"walk", "good.nff", "--path", "two.path", "--stats="}, "--stats ''"},
+        bad_flags{"walk_frame", {"walk", "good.nff", "--path", "two.path", "--frame", "1"}, "--frame is for render only"},
+        bad_flags{"switch_with_value", render_args({"--quiet=yes"}), "--quiet takes no value"},
+        bad_flags{"walk_png_with_value", {"walk", "good.nff", "--path", "two.path", "--out-dir", "f", "--png=a.png"},
+                  "--png takes no value"},
+        bad_flags{"joined_value_checked", render_args({"--eps=-1"}), "bad --eps '-1'"},
+        bad_flags{"unknown_option_joined", render_args({"--bogus=1"}), "unknown option '--bogus'"},
+        // A control character in a file name is escaped: the message stays one line.
+        bad_flags{"newline_in_scene_name", {"render", "no\nsuch.nff", "--png", "out.png"}, "\"no\\nsuch.nff\":"},
+        bad_flags{"newline_in_png_folder", render_args({"--png", "x\ny/a.png"}), "folder \"x\\ny\""},
+        bad_flags{"tab_in_unexpected_argument", {"render", "good.nff", "a\tb"}, "\"a\\tb\""}),
     [](const testing::TestParamInfo<bad_flags>& i) { return std::string(i.param.name); });
 
 // --- good runs -----------------------------------------------------------------------------------
@@ -319,6 +341,137 @@ TEST_F(Cli, InfoAndHelp) {
   r = run({"--help"});
   EXPECT_TRUE(r.exited && r.code == 0) << r;
   EXPECT_NE(r.out.find("usage"), std::string::npos);
+}
+
+// --- the command line explains itself ---------------------------------------------------------
+
+TEST_F(Cli, SubcommandHelpIsItsOwnUsageOnStdout) {
+  // Each subcommand's own flags (a flag the others lack), whatever else is on the line.
+  const std::vector<std::pair<std::string, std::string>> own = {
+      {"render", "--reasons"}, {"walk", "--out-dir"}, {"view", "--screenshot"}, {"info", "hwloc"}};
+  for (const auto& [command, flag] : own)
+    for (const char* help : {"--help", "-h"}) {
+      const proc_result r = run({command, "--bogus", help});
+      ASSERT_TRUE(r.exited) << r;
+      EXPECT_EQ(r.code, 0) << command << " " << help << ": " << r;
+      EXPECT_EQ(r.err, "") << r;
+      EXPECT_EQ(r.out.rfind("usage: epsray " + command, 0), 0u) << r;
+      EXPECT_NE(r.out.find(flag), std::string::npos) << command << ": " << r.out;
+      for (const auto& [other, other_flag] : own) {
+        if (other != command && other_flag != "hwloc" && command != "info") {
+          EXPECT_EQ(r.out.find(other_flag), std::string::npos) << command << " shows " << other << "'s " << other_flag;
+        }
+      }
+    }
+  // The defaults are stated: render's default image and eps.
+  const proc_result r = run({"render", "--help"});
+  EXPECT_NE(r.out.find("SCENE-STEM.png"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("default 0.05"), std::string::npos) << r.out;
+  // The overall usage stays what epsray --help prints.
+  const proc_result all = run({"--help"});
+  EXPECT_EQ(all.code, 0) << all;
+  EXPECT_NE(all.out.find("epsray walk"), std::string::npos) << all;
+  EXPECT_NE(all.out.find("epsray render"), std::string::npos) << all;
+}
+
+TEST_F(Cli, VersionNamesTheCommit) {
+  const proc_result r = run({"--version"});
+  ASSERT_TRUE(r.exited) << r;
+  EXPECT_EQ(r.code, 0) << r;
+  EXPECT_EQ(r.err, "");
+  EXPECT_TRUE(std::regex_match(r.out, std::regex("epsray [0-9]+\\.[0-9]+[0-9.]*\\+[A-Za-z0-9._-]+\n"))) << r.out;
+  EXPECT_EQ(run({"version"}).out, r.out);
+  const proc_result info = run({"info"});
+  EXPECT_EQ(info.out.substr(0, r.out.size()), r.out) << "info starts with the same version line";
+}
+
+TEST_F(Cli, FlagEqualsValueIsFlagSpaceValue) {
+  write("good.nff", good_scene);
+  proc_result r = run({"render", "good.nff", "--mode=base", "--size=24x16", "--threads=2", "--eps=0.1",
+                       "--pfm=joined.pfm", "--stats=joined.json", "--quiet"});
+  ASSERT_EQ(r.code, 0) << r;
+  r = run({"render", "good.nff", "--mode", "base", "--size", "24x16", "--threads", "2", "--eps", "0.1", "--pfm",
+           "spaced.pfm", "--quiet"});
+  ASSERT_EQ(r.code, 0) << r;
+  const image img = read_pfm(work.file("joined.pfm"));
+  EXPECT_EQ(img.width, 24);
+  EXPECT_EQ(img.height, 16);
+  EXPECT_TRUE(same_pixels(img, read_pfm(work.file("spaced.pfm"))));
+  const nlohmann::json j = nlohmann::json::parse(test::read_file(work.file("joined.json")));
+  EXPECT_EQ(j.at("mode"), "base");
+  EXPECT_EQ(j.at("threads"), 2);
+  EXPECT_NEAR(j.at("eps").get<double>(), 0.1, 1e-6);
+  // A value holding '=' is kept whole.
+  r = run({"render", "good.nff", "--mode", "base", "--pfm=a=b.pfm", "--quiet"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_TRUE(std::filesystem::exists(work.path() / "a=b.pfm"));
+}
+
+TEST_F(Cli, RenderWithoutImageFlagsWritesSceneStemPngHere) {
+  std::filesystem::create_directory(work.path() / "scenes");
+  write("scenes/room.v1.nff", good_scene);
+  proc_result r = run({"render", "scenes/room.v1.nff", "--mode", "base"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_NE(r.out.find("wrote room.v1.png\n"), std::string::npos) << r.out;
+  EXPECT_EQ(test::read_file(work.file("room.v1.png")).substr(1, 3), "PNG");
+  EXPECT_FALSE(std::filesystem::exists(work.path() / "scenes" / "room.v1.png")) << "in the current folder";
+  // --quiet writes it silently; --pfm alone writes no PNG.
+  std::filesystem::remove(work.path() / "room.v1.png");
+  r = run({"render", "scenes/room.v1.nff", "--mode", "base", "--quiet"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_EQ(r.out, "");
+  EXPECT_TRUE(std::filesystem::exists(work.path() / "room.v1.png"));
+  std::filesystem::remove(work.path() / "room.v1.png");
+  r = run({"render", "scenes/room.v1.nff", "--mode", "base", "--pfm", "a.pfm", "--quiet"});
+  ASSERT_EQ(r.code, 0) << r;
+  EXPECT_EQ(listing(), (std::vector<std::string>{"a.pfm", "scenes"}));
+}
+
+TEST_F(Cli, StatsCarryProvenance) {
+  write("good.nff", good_scene);
+  write("two.path", two_frames);
+  const std::string version = run({"--version"}).out;  // "epsray VERSION\n"
+  const std::vector<std::vector<std::string>> runs = {
+      {"render", "good.nff", "--mode=base", "--size", "8x6", "--pfm", "a.pfm", "--stats", "r.json", "--quiet"},
+      {"walk", "good.nff", "--path", "two.path", "--size", "8x6", "--stats", "w.json", "--quiet"}};
+  for (const std::vector<std::string>& args : runs) {
+    const proc_result r = run(args);
+    ASSERT_EQ(r.code, 0) << r;
+    const std::string stats = args[0] == "render" ? "r.json" : "w.json";
+    const nlohmann::json j = nlohmann::json::parse(test::read_file(work.file(stats)));
+    EXPECT_EQ("epsray " + j.at("epsray_version").get<std::string>() + "\n", version);
+    std::vector<std::string> command{"epsray"};
+    command.insert(command.end(), args.begin(), args.end());
+    EXPECT_EQ(j.at("command"), nlohmann::json(command)) << "the argument list as given";
+    const nlohmann::json& m = j.at("machine");
+    EXPECT_FALSE(m.at("cpu").get<std::string>().empty());
+    EXPECT_GE(m.at("hardware_threads").get<int>(), 1);
+    EXPECT_NE(m.at("topology").get<std::string>().find("core"), std::string::npos) << m;
+    EXPECT_EQ(j.at("interrupted"), false);
+  }
+}
+
+TEST_F(Cli, MemoryBudgetAppliesToLightfield) {
+  // The lightfield baseline keeps its cells in the same linetree set as interp and full,
+  // so --memory-mb bounds it too (down to the cells a frame uses).
+  const std::string scene = std::string(EPSRAY_SOURCE_DIR) + "/scenes/artroom.nff";
+  // The walk's first three cameras.
+  std::istringstream walk(test::read_file(std::string(EPSRAY_SOURCE_DIR) + "/scenes/paths/artroom-walk.path"));
+  std::string three, line;
+  for (int n = 0; n < 3 && std::getline(walk, line);)
+    if (!line.empty() && line[0] != '#') three += line + "\n", ++n;
+  write("three.path", three);
+  std::vector<std::uint64_t> last;
+  for (const char* budget : {"", "1"}) {
+    std::vector<std::string> args{"walk", scene, "--path", "three.path", "--size", "160x120", "--mode", "lightfield",
+                                  "--stats", "lf.json", "--quiet"};
+    if (budget[0]) args.insert(args.end(), {"--memory-mb", budget});
+    const proc_result r = run(args);
+    ASSERT_EQ(r.code, 0) << r;
+    const nlohmann::json j = nlohmann::json::parse(test::read_file(work.file("lf.json")));
+    last.push_back(j.at("frames").back().at("linetree_bytes").get<std::uint64_t>());
+  }
+  EXPECT_LT(last[1], last[0] * 3 / 4) << "evicted between frames";
 }
 
 // --- walk ---------------------------------------------------------------------------------------
