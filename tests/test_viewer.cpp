@@ -102,6 +102,20 @@ TEST(ViewerCamera, MovesKeepTheViewAndStopShortOfUp) {
   EXPECT_NEAR(std::asin(f.y), glm::radians(89.0f), 1e-4);
 }
 
+// The reasons display's colours: interpolated and reprojected, the two commonest, far apart (the
+// engine marks them in two blues), and no two reasons alike.
+TEST(ViewerReasons, EveryReasonHasItsOwnColour) {
+  const auto& c = reason_bytes();
+  const auto distance = [](const rgb8& a, const rgb8& b) {
+    int d = 0;
+    for (size_t i = 0; i < 3; ++i) d = std::max(d, std::abs(int(a[i]) - int(b[i])));
+    return d;
+  };
+  EXPECT_GE(distance(c[size_t(pixel_reason::interpolated)], c[size_t(pixel_reason::reprojected)]), 120);
+  for (size_t a = 0; a < c.size(); ++a)
+    for (size_t b = a + 1; b < c.size(); ++b) EXPECT_GE(distance(c[a], c[b]), 60) << a << " and " << b;
+}
+
 TEST(ViewerScreenshot, ScreenBytesSurviveWritePng) {
   for (int b = 0; b < 256; ++b) EXPECT_EQ(srgb_byte(linear_from_srgb_byte((unsigned char)b)), b);
 }
@@ -277,20 +291,16 @@ TEST_F(ViewerXvfb, ScreenshotsShowTheFrameEachDisplayAndTheHud) {
   ASSERT_EQ(image.height, 120);
   EXPECT_LE(max_difference(image, whitted), byte_tolerance(eps));
 
-  // The error-coded image holds only the paper's colours; the paths display only the paths'
-  // colours, with pixels that were not traced among them.
-  std::set<rgb8> reason_bytes;
-  for (int r = 0; r <= int(pixel_reason::reprojected); ++r) {
-    const glm::vec3 c = reason_colour(pixel_reason(r));
-    reason_bytes.insert(rgb8{srgb_byte(c.x), srgb_byte(c.y), srgb_byte(c.z)});
-  }
+  // The error-coded image holds only the display's colours; the paths display only the
+  // paths' colours, with pixels that were not traced among them.
+  const std::set<rgb8> reason_colours(reason_bytes().begin(), reason_bytes().end());
   const png reasons = read_png(dir.file("reasons.png"));
   const png paths = read_png(dir.file("paths.png"));
   int not_traced = 0;
   for (int y = 0; y < 120; ++y)
     for (int px = 0; px < 160; ++px) {
       const unsigned char* c = reasons.at(px, y);
-      ASSERT_TRUE(reason_bytes.count(rgb8{c[0], c[1], c[2]})) << "reasons pixel " << px << "," << y;
+      ASSERT_TRUE(reason_colours.count(rgb8{c[0], c[1], c[2]})) << "reasons pixel " << px << "," << y;
       const unsigned char* p = paths.at(px, y);
       const auto is = [&](int i) { return std::equal(p, p + 3, path_colours[size_t(i)].begin()); };
       ASSERT_TRUE(is(0) || is(1) || is(2)) << "paths pixel " << px << "," << y;

@@ -21,6 +21,12 @@ using rgb8 = std::array<unsigned char, 3>;
 // The paths display: fast (reprojected), interp, base, as sRGB bytes (the HUD's legend too).
 extern const std::array<rgb8, 3> path_colours;
 
+// The reasons display, indexed by pixel_reason, as sRGB bytes: the paper's colours
+// (reason_colour), but for reprojected pixels, which the engine marks in a second blue hard
+// to tell from interpolated's; the display shows them orange.
+constexpr int reason_count = 7;
+const std::array<rgb8, reason_count>& reason_bytes();
+
 struct frame_stats {
   double ms = 0, reproject_ms = 0;
   path_times path_ms;
