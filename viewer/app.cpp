@@ -119,11 +119,13 @@ int run_view(const cli_options& given) {
     float dx = 0, dy = 0;
     bool render = false;
     std::string screenshot;
+    bool screenshot_hud = false;
     if (scripted) {
       if (last.id <= shown.id) {  // else its frame is not on screen yet: just draw
         const script_turn t = player->next(st, shown);
         if (t.done) break;
-        keys = t.keys, dx = t.drag_x, dy = t.drag_y, render = t.render, screenshot = t.screenshot;
+        keys = t.keys, dx = t.drag_x, dy = t.drag_y, render = t.render;
+        screenshot = t.screenshot, screenshot_hud = t.screenshot_hud;
         seconds = script_frame_seconds;
       }
     } else {
@@ -172,10 +174,12 @@ int run_view(const cli_options& given) {
     draw_hud(st, shown, times, o.scene.c_str(), renderer.threads());
     win.end_frame();
     if (!scripted && win.hud_busy()) rest = std::min(rest, 1.0 / 60);
-    if (!screenshot.empty()) {
+    if (!screenshot.empty() && screenshot_hud) {
       int fw = 0, fh = 0;
       win.framebuffer_size(fw, fh);
       save_screenshot(fw, fh, screenshot);
+    } else if (!screenshot.empty()) {
+      save_picture(shown.rgb[size_t(st.mode)], shown.width, shown.height, screenshot);
     }
     win.present();
   }

@@ -31,6 +31,10 @@ void save_screenshot(int width, int height, const std::string& path) {
   for (int y = 0; y < height / 2; ++y)
     std::swap_ranges(rgb.begin() + std::ptrdiff_t(y * row), rgb.begin() + std::ptrdiff_t((y + 1) * row),
                      rgb.begin() + std::ptrdiff_t((height - 1 - y) * row));
+  save_picture(rgb, width, height, path);
+}
+
+void save_picture(const std::vector<unsigned char>& rgb, int width, int height, const std::string& path) {
   write_png(image_from_srgb_bytes(rgb, width, height), path);
 }
 

@@ -8,11 +8,23 @@ namespace epsray {
 
 namespace {
 
-// Draws before a screenshot: Dear ImGui sizes a new auto-resizing window on its second frame.
+// Draws before a screenshot with the HUD: Dear ImGui sizes a new auto-resizing window on its
+// second frame.
 constexpr int screenshot_draws = 3;
 
 void expect_words(const line_reader& in, const text_line& l, size_t n, const char* usage) {
   if (l.words.size() != n) in.fail(l.number, std::string("expected '") + usage + "'");
+}
+
+// The keys `press` takes, as the error message lists them.
+std::string pressable_keys() {
+  std::string out;
+  for (const key_binding& b : key_bindings()) {
+    if (b.held) continue;
+    if (!out.empty()) out += ' ';
+    out += b.name;
+  }
+  return out;
 }
 
 }  // namespace
@@ -43,7 +55,7 @@ script parse_script(std::string_view text, const std::string& name) {
       expect_words(in, l, 2, "press KEY");
       st.op = script_op::press, st.key = key_by_name(l.words[1], false);
       if (st.key < 0)
-        in.fail(l.number, "cannot press '" + std::string(l.words[1]) + "' (+ - ] [ Tab R P L F1 Esc)");
+        in.fail(l.number, "cannot press '" + std::string(l.words[1]) + "' (" + pressable_keys() + ")");
     } else if (cmd == "mode") {
       expect_words(in, l, 2, "mode image|reasons|paths|cells");
       st.op = script_op::mode;
@@ -62,8 +74,9 @@ script parse_script(std::string_view text, const std::string& name) {
       st.op = script_op::hud, st.on = l.words[1] == "on";
       if (!st.on && l.words[1] != "off") in.fail(l.number, "expected 'hud on' or 'hud off'");
     } else if (cmd == "screenshot") {
-      expect_words(in, l, 2, "screenshot FILE");
-      st.op = script_op::screenshot, st.file = l.words[1];
+      if (l.words.size() != 2 && !(l.words.size() == 3 && l.words[2] == "hud"))
+        in.fail(l.number, "expected 'screenshot FILE' or 'screenshot FILE hud'");
+      st.op = script_op::screenshot, st.file = l.words[1], st.on = l.words.size() == 3;
       std::filesystem::path dir = std::filesystem::path(st.file).parent_path();
       if (!std::filesystem::is_directory(dir.empty() ? "." : dir))
         in.fail(l.number, "screenshot folder '" + dir.string() + "' does not exist");
@@ -117,9 +130,13 @@ script_turn script_player::next(viewer_state& st, const shown_frame& shown) {
         }
         break;
       case script_op::screenshot:
-        if (done < screenshot_draws) return t;
-        if (done == screenshot_draws) {
-          t.screenshot = s.file;
+        if (shown.id == 0) {  // a script that starts with one: there is no picture yet
+          done_in_step_ = 0, t.render = true;
+          return t;
+        }
+        if (s.on && done < screenshot_draws) return t;
+        if (done == (s.on ? screenshot_draws : 0)) {
+          t.screenshot = s.file, t.screenshot_hud = s.on;
           return t;
         }
         break;

@@ -5,10 +5,12 @@
 //   key K N            hold movement key K (W A S D Q E) for N frames
 //   drag DX DY         one frame of mouse look by DX, DY pixels
 //   press K            press a key once: + - ] [ Tab R P L F1 Esc
-//   mode image|reasons|paths
+//   mode image|reasons|paths|cells
+//   pick FX FY         right click at FX, FY (fractions of the image): the cells display
 //   eps E              the user's epsilon, as if typed into the HUD
 //   hud on|off
-//   screenshot FILE    the whole window as a PNG
+//   screenshot FILE    the rendered picture of the current display as a PNG, no HUD
+//   screenshot FILE hud   the whole window, HUD and legend as drawn
 //   quit
 // Each frame is one step: the script waits for it to finish and show, and a held key moves
 // the camera by one 30th of a second at the current speed. The viewer exits when the script ends.
@@ -31,7 +33,7 @@ struct script_step {
   int key = -1;        // key, press: GLFW key code
   float x = 0, y = 0;  // drag: pixels; pick: fractions of the image; eps: the bound in x
   display_mode mode = display_mode::image;
-  bool on = false;   // hud
+  bool on = false;   // hud; screenshot: of the window, HUD included
   std::string file;  // screenshot
 };
 
@@ -43,7 +45,7 @@ struct script {
 // Checked whole before the window opens: bad input is `file:line: what` (exit 2).
 script parse_script(std::string_view text, const std::string& name);
 script load_script(const std::string& path);
-// --screenshot OUT alone: refine, then save the window.
+// --screenshot OUT alone: refine, then save the picture.
 script screenshot_script(const std::string& out);
 
 constexpr float script_frame_seconds = 1.0f / 30;
@@ -53,7 +55,8 @@ struct script_turn {
   bool render = false;  // apply keys and drag, then render one frame and wait for it
   move_keys keys;
   float drag_x = 0, drag_y = 0;
-  std::string screenshot;  // save the window once this turn is drawn
+  std::string screenshot;  // save the picture once this turn is drawn
+  bool screenshot_hud = false;  // the whole window rather than the picture
   bool done = false;       // the script has ended
 };
 
