@@ -104,7 +104,7 @@ INSTANTIATE_TEST_SUITE_P(
                     bad_scene{"empty", "", 1, "empty scene file"},
                     bad_scene{"no_view", "s 0 0 0 1\n", 1, "viewpoint is missing"},
                     bad_scene{"non_ascii", view7 + "s 0 0 0 1\xe9\n", 8, "not printable ASCII"},
-                    bad_scene{"polygon_ends_early", view7 + "p 4\n0 0 0\n1 0 0\n", 10, "ends early"},
+                    bad_scene{"polygon_ends_early", view7 + "p 4\n0 0 0\n1 0 0\n", 8, "ends early"},
                     bad_scene{"missing_texture", view7 + "texture image nope.png 1 1\ns 0 0 0 1\n", 8,
                               "cannot be read"}),
     [](const testing::TestParamInfo<bad_scene>& i) { return std::string(i.param.name); });
