@@ -2,7 +2,8 @@
 // screenshot bytes), then build/epsray view as a subprocess. Without a display it refuses in
 // one line; under an Xvfb that the test starts itself it is driven by --script, and its
 // screenshots must show the rendered frame (compared with `epsray render` of the same
-// camera) with no HUD unless asked, the HUD, the error-coded and per-path displays, and
+// camera) with no HUD unless asked, the compact HUD and the full panel within the window,
+// the error-coded and per-path displays and their legends, the cells display's hint, and
 // recorded and played paths.
 #include <poll.h>
 #include <stb/stb_image.h>
@@ -19,6 +20,7 @@
 #include "scene/path_file.h"
 #include "test_process.h"
 #include "viewer/camera_control.h"
+#include "viewer/controls.h"
 #include "viewer/frame_bytes.h"
 #include "viewer/screenshot.h"
 #include "viewer/script.h"
@@ -67,7 +69,7 @@ TEST(ViewerScript, BadLinesNameTheLine) {
       {"frames\n", "expected 'frames N'"},
       {"frames 0\n", "frames"},
       {"key P 3\n", "not one of W A S D Q E"},
-      {"press W\n", "cannot press 'W' (+ - ] [ Tab R P L F1 Esc)"},
+      {"press W\n", "cannot press 'W' (+ - ] [ Tab R P L F1 H Esc)"},
       {"mode fancy\n", "not image, reasons, paths or cells"},
       {"pick 0.5\n", "expected 'pick FX FY'"},
       {"pick 1.5 0.5\n", "fractions of the image"},
@@ -107,7 +109,25 @@ TEST(ViewerCamera, MovesKeepTheViewAndStopShortOfUp) {
   EXPECT_NEAR(std::asin(f.y), glm::radians(89.0f), 1e-4);
 }
 
-// The reasons display's colours: interpolated and reprojected, the two commonest, far apart (the
+TEST(ViewerControls, F1SwitchesThePanelAndHHidesTheHud) {
+  const int f1 = key_by_name("F1", false), h = key_by_name("h", false);
+  viewer_state s;
+  EXPECT_TRUE(s.hud);
+  EXPECT_FALSE(s.hud_full) << "compact by default";
+  press_key(s, f1);
+  EXPECT_TRUE(s.hud && s.hud_full);
+  press_key(s, f1);
+  EXPECT_TRUE(s.hud && !s.hud_full);
+  press_key(s, h);
+  EXPECT_FALSE(s.hud);
+  press_key(s, f1);
+  EXPECT_TRUE(s.hud && s.hud_full) << "F1 brings a hidden HUD back, as the full panel";
+  press_key(s, h);
+  press_key(s, h);
+  EXPECT_TRUE(s.hud && s.hud_full) << "H keeps the panel chosen";
+}
+
+// The legend's colours: interpolated and reprojected, the two commonest, far apart (the
 // engine marks them in two blues), and no two reasons alike.
 TEST(ViewerReasons, EveryReasonHasItsOwnColour) {
   const auto& c = reason_bytes();
@@ -253,6 +273,47 @@ int max_difference(const png& a, const png& b, int* differing = nullptr) {
   return worst;
 }
 
+// Where two screenshots of one frame differ by more than 24 in some channel (an overlay
+// drawn over one of them): the bounding box, and the rows and pixels that differ.
+struct overlay_area {
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;  // inclusive; empty when x1 < x0
+  int rows = 0, pixels = 0;
+  int pixels_in(int ax0, int ay0, int ax1, int ay1) const;  // within [ax0, ax1) x [ay0, ay1)
+  std::vector<bool> mask;
+  int width = 0;
+};
+
+overlay_area differing_area(const png& a, const png& b) {
+  overlay_area o;
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_EQ(a.height, b.height);
+  if (a.rgb.size() != b.rgb.size()) return o;
+  o.width = a.width, o.x0 = a.width, o.y0 = a.height;
+  o.mask.assign(size_t(a.width) * size_t(a.height), false);
+  for (int y = 0; y < a.height; ++y) {
+    bool row = false;
+    for (int x = 0; x < a.width; ++x) {
+      const unsigned char *p = a.at(x, y), *q = b.at(x, y);
+      bool d = false;
+      for (int c = 0; c < 3; ++c) d = d || std::abs(int(p[c]) - int(q[c])) > 24;
+      if (!d) continue;
+      o.mask[size_t(y) * size_t(a.width) + size_t(x)] = true;
+      row = true, ++o.pixels;
+      o.x0 = std::min(o.x0, x), o.x1 = std::max(o.x1, x), o.y0 = std::min(o.y0, y), o.y1 = std::max(o.y1, y);
+    }
+    o.rows += row;
+  }
+  return o;
+}
+
+int overlay_area::pixels_in(int ax0, int ay0, int ax1, int ay1) const {
+  if (mask.empty()) return 0;
+  int n = 0;
+  for (int y = ay0; y < ay1; ++y)
+    for (int x = ax0; x < ax1; ++x) n += mask[size_t(y) * size_t(width) + size_t(x)];
+  return n;
+}
+
 // How far apart, in sRGB bytes, a pixel within `eps` of the Whitted radiance may be from it:
 // a relative change eps of a linear value moves its sRGB code by at most about eps/2.4 of
 // it (the curve's exponent), the dark linear segment by less; plus one byte of rounding.
@@ -303,8 +364,8 @@ TEST_F(ViewerXvfb, ScreenshotsShowTheFrameEachDisplayAndTheHud) {
   ASSERT_EQ(image.height, 120);
   EXPECT_LE(max_difference(image, whitted), byte_tolerance(eps));
 
-  // The error-coded image holds only the display's colours; the paths display only the
-  // paths' colours, with pixels that were not traced among them.
+  // The error-coded image holds only the legend's colours; the paths display only the paths'
+  // colours, with pixels that were not traced among them.
   const std::set<rgb8> reason_colours(reason_bytes().begin(), reason_bytes().end());
   const png reasons = read_png(dir.file("reasons.png"));
   const png paths = read_png(dir.file("paths.png"));
@@ -320,7 +381,7 @@ TEST_F(ViewerXvfb, ScreenshotsShowTheFrameEachDisplayAndTheHud) {
     }
   EXPECT_GT(not_traced, 100);
 
-  // The HUD covers the top left when asked for.
+  // F1 brings the hidden HUD back as the full panel, over most of so small a window.
   int differing = 0;
   max_difference(read_png(dir.file("hud.png")), image, &differing);
   EXPECT_GT(differing, 160 * 120 / 10);
@@ -379,6 +440,78 @@ TEST_F(ViewerXvfb, ScreenshotFlagSavesTheRefinedFrameAndExits) {
   ASSERT_EQ(shot.height, 480);
   // The HUD is on, but the screenshot is the picture alone: every pixel within epsilon.
   EXPECT_LE(max_difference(shot, render("", 0, "640x480")), byte_tolerance(eps));
+}
+
+// At 640x480: a default screenshot is the picture, which is what the window shows with the
+// HUD hidden; the compact HUD keeps to a band at the top; the full panel fits in the window.
+TEST_F(ViewerXvfb, CompactHudIsABandAndTheFullPanelFits) {
+  EPSRAY_START_XVFB(x);
+  const proc_result r = play(
+      "refine\nscreenshot plain.png\nscreenshot compact.png hud\n"
+      "press F1\nscreenshot full.png hud\npress H\nscreenshot hidden.png hud\n",
+      x.display(), "640x480");
+  ASSERT_EQ(r.code, 0) << r;
+  const png plain = read_png(dir.file("plain.png"));
+  ASSERT_EQ(plain.width, 640);
+  ASSERT_EQ(plain.height, 480);
+  EXPECT_LE(max_difference(plain, render("", 0, "640x480")), byte_tolerance(eps)) << "no HUD pixels";
+  EXPECT_EQ(max_difference(read_png(dir.file("hidden.png")), plain), 0) << "H hides everything";
+
+  const overlay_area compact = differing_area(read_png(dir.file("compact.png")), plain);
+  EXPECT_GT(compact.pixels, 2000) << "the compact HUD is drawn";
+  EXPECT_LE(compact.y1, 480 * 12 / 100) << "within a band at the top";
+  EXPECT_LT(compact.x1, 640 - 4) << "not cut at the right";
+
+  const overlay_area full = differing_area(read_png(dir.file("full.png")), plain);
+  EXPECT_GT(full.rows, compact.rows * 3) << "F1 shows the full panel";
+  EXPECT_LT(full.x1, 640 - 4) << "not cut at the right";
+  EXPECT_LT(full.y1, 480 - 4) << "not cut at the bottom";
+}
+
+// The reasons and paths displays say what their colours mean, below the compact HUD.
+TEST_F(ViewerXvfb, DiagnosticDisplaysShowALegend) {
+  EPSRAY_START_XVFB(x);
+  const proc_result r = play(
+      "refine\nscreenshot image.png hud\nmode reasons\nscreenshot reasons.png\nscreenshot reasons-hud.png hud\n"
+      "mode paths\nscreenshot paths.png\nscreenshot paths-hud.png hud\n",
+      x.display(), "640x480");
+  ASSERT_EQ(r.code, 0) << r;
+  const png image_hud = read_png(dir.file("image.png"));
+  const overlay_area none = differing_area(image_hud, render("", 0, "640x480"));
+  EXPECT_EQ(none.pixels_in(0, 480 / 2, 640, 480), 0) << "the image display has no legend";
+  for (const char* mode : {"reasons", "paths"}) {
+    const std::string name = mode;
+    const overlay_area legend =
+        differing_area(read_png(dir.file(name + "-hud.png")), read_png(dir.file(name + ".png")));
+    EXPECT_GT(legend.pixels_in(0, 480 / 2, 640, 480), 1000) << mode << ": a legend along the bottom";
+    EXPECT_LT(legend.x1, 640 - 4) << mode << ": not cut at the right";
+  }
+}
+
+// With nothing picked the cells display dims the whole image and says how to pick; once an
+// object is picked the hint goes.
+TEST_F(ViewerXvfb, CellsDisplayHintsUntilAnObjectIsPicked) {
+  EPSRAY_START_XVFB(x);
+  const proc_result r = play(
+      "refine\nmode cells\nframes 1\nscreenshot none.png\nscreenshot none-hud.png hud\n"
+      "pick 0.5 0.5\nframes 1\nscreenshot picked.png\nscreenshot picked-hud.png hud\n",
+      x.display(), "640x480");
+  ASSERT_EQ(r.code, 0) << r;
+  const png none = read_png(dir.file("none.png"));
+  const png whitted = render("", 0, "640x480");
+  ASSERT_EQ(none.width, 640);
+  int dimmed = 0;
+  for (int y = 0; y < 480; ++y)
+    for (int px = 0; px < 640; ++px) {
+      const unsigned char *c = none.at(px, y), *w = whitted.at(px, y);
+      dimmed += int(c[0]) + int(c[1]) + int(c[2]) + 60 < int(w[0]) + int(w[1]) + int(w[2]);
+    }
+  EXPECT_GT(dimmed, 640 * 480 / 2) << "nothing picked: everything dimmed";
+  // The middle of the window, where the hint goes (and where the picked object lies).
+  const auto middle = [](const overlay_area& o) { return o.pixels_in(320 - 60, 240 - 12, 320 + 60, 240 + 12); };
+  EXPECT_GT(middle(differing_area(read_png(dir.file("none-hud.png")), none)), 200) << "the hint is drawn";
+  EXPECT_EQ(middle(differing_area(read_png(dir.file("picked-hud.png")), read_png(dir.file("picked.png")))), 0)
+      << "no hint once an object is picked";
 }
 
 // A budget far below one frame's working set evicts between every pair of frames; the

@@ -43,14 +43,17 @@ const lt_node* leaf_of(const world& w, const camera& cam, linetree_set& trees, i
 
 }  // namespace
 
-void paint_cells(workers& pool, const world& w, const camera& cam, linetree_set& trees, float fx, float fy,
-                 const image& img, std::vector<const lt_node*>& leaves, std::vector<unsigned char>& rgb) {
+int paint_cells(workers& pool, const world& w, const camera& cam, linetree_set& trees, float fx, float fy,
+                const image& img, std::vector<const lt_node*>& leaves, std::vector<unsigned char>& rgb) {
   const int width = cam.width, height = cam.height;
-  const int px = std::clamp(int(fx * float(width)), 0, width - 1);
-  const int py = std::clamp(int(fy * float(height)), 0, height - 1);
-  hit h;
-  const ray r = eye_ray(w, cam, eye_direction(cam, float(px), float(py)));
-  const int picked = closest_hit(w, r, std::numeric_limits<float>::infinity(), h) ? h.prim : -1;
+  int picked = -1;
+  if (fx >= 0 && fy >= 0) {
+    const int px = std::clamp(int(fx * float(width)), 0, width - 1);
+    const int py = std::clamp(int(fy * float(height)), 0, height - 1);
+    hit h;
+    const ray r = eye_ray(w, cam, eye_direction(cam, float(px), float(py)));
+    if (closest_hit(w, r, std::numeric_limits<float>::infinity(), h)) picked = h.prim;
+  }
   leaves.assign(size_t(width) * size_t(height), nullptr);
   if (picked >= 0) {
     pool.run([&] {
@@ -73,6 +76,7 @@ void paint_cells(workers& pool, const world& w, const camera& cam, linetree_set&
     }
   }
   encode_srgb(shown, rgb);
+  return picked;
 }
 
 }  // namespace epsray

@@ -13,9 +13,11 @@
 
 namespace epsray {
 
-// The object under (fx, fy), fractions of the image from its top-left corner, is picked.
-// `leaves` is scratch kept by the caller (one entry per pixel).
-void paint_cells(workers& pool, const world& w, const camera& cam, linetree_set& trees, float fx, float fy,
-                 const image& img, std::vector<const lt_node*>& leaves, std::vector<unsigned char>& rgb);
+// The object under (fx, fy), fractions of the image from its top-left corner, is picked
+// (none when fx or fy is negative, or the point shows the background); returns its
+// primitive, or -1 with the whole image dimmed. `leaves` is scratch kept by the caller
+// (one entry per pixel).
+int paint_cells(workers& pool, const world& w, const camera& cam, linetree_set& trees, float fx, float fy,
+                const image& img, std::vector<const lt_node*>& leaves, std::vector<unsigned char>& rgb);
 
 }  // namespace epsray

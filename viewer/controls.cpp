@@ -9,21 +9,23 @@ namespace epsray {
 
 const std::vector<key_binding>& key_bindings() {
   static const std::vector<key_binding> b{
+      // The help lines are short: the full panel lays them out three to a row in 640 pixels.
       {"W", GLFW_KEY_W, true, "forward"},
       {"S", GLFW_KEY_S, true, "back"},
       {"A", GLFW_KEY_A, true, "left"},
       {"D", GLFW_KEY_D, true, "right"},
       {"Q", GLFW_KEY_Q, true, "down"},
       {"E", GLFW_KEY_E, true, "up"},
-      {"+", GLFW_KEY_EQUAL, false, "faster (or scroll up)"},
-      {"-", GLFW_KEY_MINUS, false, "slower (or scroll down)"},
+      {"+", GLFW_KEY_EQUAL, false, "faster"},
+      {"-", GLFW_KEY_MINUS, false, "slower"},
       {"]", GLFW_KEY_RIGHT_BRACKET, false, "epsilon x1.5"},
       {"[", GLFW_KEY_LEFT_BRACKET, false, "epsilon /1.5"},
-      {"Tab", GLFW_KEY_TAB, false, "display: image, reasons, paths, cells"},
-      {"R", GLFW_KEY_R, false, "reset view and speed"},
-      {"P", GLFW_KEY_P, false, "record the camera path (--record)"},
-      {"L", GLFW_KEY_L, false, "play the camera path (--path)"},
-      {"F1", GLFW_KEY_F1, false, "HUD on/off"},
+      {"Tab", GLFW_KEY_TAB, false, "next display"},
+      {"R", GLFW_KEY_R, false, "reset view"},
+      {"P", GLFW_KEY_P, false, "record path"},
+      {"L", GLFW_KEY_L, false, "play path"},
+      {"F1", GLFW_KEY_F1, false, "HUD compact/full"},
+      {"H", GLFW_KEY_H, false, "HUD on/off"},
       {"Esc", GLFW_KEY_ESCAPE, false, "quit"},
   };
   return b;
@@ -55,28 +57,30 @@ bool set_move_key(move_keys& k, int key) {
 
 namespace {
 
+void say(viewer_state& s, std::string note) { s.note = std::move(note), ++s.note_serial; }
+
 void toggle_recording(viewer_state& s) {
   if (s.rec.file.empty()) {
-    s.note = "P records only with --record FILE";
+    say(s, "P records only with --record FILE");
   } else if (s.rec.on) {
     s.rec.stop();
-    s.note = "wrote " + std::to_string(s.rec.views.size()) + " cameras to " + s.rec.file;
+    say(s, "wrote " + std::to_string(s.rec.views.size()) + " cameras to " + s.rec.file);
   } else {
     s.rec.start();
-    s.note = "recording to " + s.rec.file;
+    say(s, "recording to " + s.rec.file);
   }
 }
 
 void toggle_playing(viewer_state& s) {
   if (!s.path) {
-    s.note = "L plays only with --path FILE";
+    say(s, "L plays only with --path FILE");
   } else if (s.play >= 0) {
     s.play = -1;
-    s.note = "playing stopped";
+    say(s, "playing stopped");
   } else {
     s.play = 0;
     s.view = s.path->frames[0];
-    s.note = "playing " + s.path->file;
+    say(s, "playing " + s.path->file);
   }
 }
 
@@ -85,7 +89,10 @@ void toggle_playing(viewer_state& s) {
 void press_key(viewer_state& s, int key) {
   switch (key) {
     case GLFW_KEY_TAB: s.mode = display_mode((int(s.mode) + 1) % display_mode_count); break;
-    case GLFW_KEY_F1: s.hud = !s.hud; break;
+    case GLFW_KEY_F1:  // from a hidden HUD, straight to the panel asked for
+      s.hud_full = !s.hud || !s.hud_full, s.hud = true;
+      break;
+    case GLFW_KEY_H: s.hud = !s.hud; break;
     case GLFW_KEY_RIGHT_BRACKET: s.eps = s.eps > 0 ? std::min(s.eps * 1.5f, max_eps) : 0.001f; break;
     case GLFW_KEY_LEFT_BRACKET: s.eps /= 1.5f; break;
     case GLFW_KEY_EQUAL:
@@ -94,7 +101,7 @@ void press_key(viewer_state& s, int key) {
     case GLFW_KEY_KP_SUBTRACT: s.speed /= 1.25f; break;
     case GLFW_KEY_R:
       s.view = s.home, s.speed = s.home_speed, s.play = -1;
-      s.note = "view reset";
+      say(s, "view reset");
       break;
     case GLFW_KEY_P: toggle_recording(s); break;
     case GLFW_KEY_L: toggle_playing(s); break;
@@ -108,7 +115,7 @@ void advance_playback(viewer_state& s) {
     s.view = s.path->frames[size_t(s.play)];
   } else {
     s.play = -1;
-    s.note = "played " + std::to_string(s.path->frames.size()) + " cameras";
+    say(s, "played " + std::to_string(s.path->frames.size()) + " cameras");
   }
 }
 

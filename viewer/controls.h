@@ -27,12 +27,17 @@ struct viewer_state {
   float home_speed = 1, speed = 1;  // world units per second
   float eps = 0.05f;                // the user's bound; moving_eps while the camera moves
   display_mode mode = display_mode::image;
-  float pick_x = 0.5f, pick_y = 0.5f;  // the cells display's object: under this point
-  bool hud = true, quit = false;
+  // The cells display's object: under this point, fractions of the image; negative until a
+  // right click (or a script's pick) picks one.
+  float pick_x = -1, pick_y = -1;
+  bool hud = true;        // H: the HUD, or nothing over the picture
+  bool hud_full = false;  // F1: the full panel rather than the compact lines
+  bool quit = false;
   path_recorder rec;
   const camera_path* path = nullptr;  // --path, played by L
   int play = -1;                      // the path camera on screen next; -1: not playing
   std::string note;                   // what the last key did, for the HUD
+  int note_serial = 0;                // counts notes: the compact HUD shows a new one a while
 };
 
 constexpr float max_eps = 1e6f;  // as --eps

@@ -31,6 +31,9 @@ void encode_srgb(const image& img, std::vector<unsigned char>& out) {
   for (const glm::vec3& p : img.pixels) *o++ = srgb_byte(p.x), *o++ = srgb_byte(p.y), *o++ = srgb_byte(p.z);
 }
 
+const std::array<const char*, reason_count> reason_names{
+    "interpolated", "discontinuity", "missed", "blocked", "nonlinear", "traced", "reprojected"};
+
 const std::array<rgb8, reason_count>& reason_bytes() {
   static const std::array<rgb8, reason_count> bytes = [] {
     static_assert(reason_count == int(pixel_reason::reprojected) + 1);

@@ -21,11 +21,13 @@ using rgb8 = std::array<unsigned char, 3>;
 // The paths display: fast (reprojected), interp, base, as sRGB bytes (the HUD's legend too).
 extern const std::array<rgb8, 3> path_colours;
 
-// The reasons display, indexed by pixel_reason, as sRGB bytes: the paper's colours
-// (reason_colour), but for reprojected pixels, which the engine marks in a second blue hard
-// to tell from interpolated's; the display shows them orange.
+// The reasons display, indexed by pixel_reason, as sRGB bytes (the legend's too): the
+// paper's colours (reason_colour), but for reprojected pixels, which the engine marks in a
+// second blue hard to tell from interpolated's; the display shows them orange.
 constexpr int reason_count = 7;
 const std::array<rgb8, reason_count>& reason_bytes();
+// What each colour means, for the legend.
+extern const std::array<const char*, reason_count> reason_names;
 
 struct frame_stats {
   double ms = 0, reproject_ms = 0;
@@ -40,6 +42,7 @@ struct shown_frame {
   float eps = 0;  // the bound it was rendered with
   int width = 0, height = 0;
   std::array<std::vector<unsigned char>, display_mode_count> rgb;  // RGB rows, top row first
+  int cells_object = -1;  // the cells display's picked primitive; -1: none (or not painted)
   frame_stats stats;
 };
 

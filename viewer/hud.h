@@ -1,5 +1,8 @@
-// The heads-up display (Dear ImGui): frame rate and times, pixels and time per path,
-// epsilon (with a field to type it), memory, threads, a frame-time plot and the keys.
+// The heads-up display (Dear ImGui). Compact by default: two lines over the top left (frame
+// rate and time, epsilon, each path's share of the pixels). F1 opens the full panel: times
+// and thread time per path, epsilon (with a field to type it), memory, threads, a
+// frame-time plot and the keys. The diagnostic displays add a legend along the bottom, and
+// the cells display with nothing picked says how to pick. H hides it all.
 #pragma once
 #include <array>
 
@@ -18,7 +21,7 @@ struct frame_times {
   }
 };
 
-// Draws the HUD window when s.hud is set; typing a bound into its field changes s.eps.
+// Draws the HUD when s.hud is set; typing a bound into the panel's field changes s.eps.
 void draw_hud(viewer_state& s, const shown_frame& f, const frame_times& times, const char* scene, int threads);
 
 }  // namespace epsray

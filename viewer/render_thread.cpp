@@ -78,8 +78,10 @@ void render_thread::loop() {
       const camera cam = make_camera(r.view, width_, height_);
       const frame_result fr = render_frame(pool_, w_, cam, fp);
       fill_shown_frame(fr, work);
-      if (r.cells) paint_cells(pool_, w_, cam, trees_, r.pick_x, r.pick_y, fr.img, cell_scratch_,
-                               work.rgb[size_t(display_mode::cells)]);
+      work.cells_object = -1;
+      if (r.cells)
+        work.cells_object = paint_cells(pool_, w_, cam, trees_, r.pick_x, r.pick_y, fr.img, cell_scratch_,
+                                        work.rgb[size_t(display_mode::cells)]);
       else work.rgb[size_t(display_mode::cells)] = work.rgb[size_t(display_mode::image)];
     } catch (const std::exception& e) {
       {

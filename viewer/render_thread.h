@@ -20,7 +20,7 @@ struct render_request {
   camera_view view;
   float eps = 0;
   bool cells = false;           // paint the cells display (it costs a visibility ray a pixel)
-  float pick_x = 0.5f, pick_y = 0.5f;  // its object: under this point, fractions of the image
+  float pick_x = -1, pick_y = -1;  // its object: under this point, fractions of the image (negative: none)
   bool moving = false;          // the camera moves (frame_params::camera_moving)
 };
 

@@ -4,11 +4,11 @@
 //   refine             render until a frame at the user's epsilon shows the current camera
 //   key K N            hold movement key K (W A S D Q E) for N frames
 //   drag DX DY         one frame of mouse look by DX, DY pixels
-//   press K            press a key once: + - ] [ Tab R P L F1 Esc
+//   press K            press a key once: + - ] [ Tab R P L F1 H Esc
 //   mode image|reasons|paths|cells
 //   pick FX FY         right click at FX, FY (fractions of the image): the cells display
 //   eps E              the user's epsilon, as if typed into the HUD
-//   hud on|off
+//   hud on|off         as H: the HUD shown (compact, or the full panel after F1) or hidden
 //   screenshot FILE    the rendered picture of the current display as a PNG, no HUD
 //   screenshot FILE hud   the whole window, HUD and legend as drawn
 //   quit
