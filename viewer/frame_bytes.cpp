@@ -42,7 +42,6 @@ const std::array<rgb8, reason_count>& reason_bytes() {
       const glm::vec3 c = reason_colour(pixel_reason(r));
       b[size_t(r)] = {srgb_byte(c.x), srgb_byte(c.y), srgb_byte(c.z)};
     }
-    b[size_t(pixel_reason::reprojected)] = {255, 128, 0};
     return b;
   }();
   return bytes;

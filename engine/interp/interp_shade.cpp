@@ -298,7 +298,7 @@ glm::vec3 reason_colour(pixel_reason r) {
     case pixel_reason::blocked: return {0.9f, 0.1f, 0.1f};
     case pixel_reason::nonlinear: return {0.9f, 0.1f, 0.9f};
     case pixel_reason::traced: return {0.15f, 0.15f, 0.15f};
-    case pixel_reason::reprojected: return {0.3f, 0.4f, 0.75f};
+    case pixel_reason::reprojected: return {1.0f, 0.2158f, 0.0f};  // orange (255, 128, 0 in sRGB): far from interpolated's blue
   }
   return {0, 0, 0};
 }
