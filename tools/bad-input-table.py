@@ -105,15 +105,23 @@ def scene(category, name, text_shown, line, phrase):
 scene("scene syntax", "sphere_3_numbers", with_view(b"s 0 0 0\n"), 8, "sphere needs 4 numbers, got 3")
 scene("scene syntax", "sphere_5_numbers", with_view(b"s 0 0 0 1 2\n"), 8, "sphere needs 4 numbers, got 5")
 scene("scene syntax", "cone_7_numbers", with_view(b"c 0 0 0 1 0 0 1\n"), 8, "needs 8 numbers, got 7")
-scene("scene syntax", "material_7_numbers", with_view(b"f 1 1 1 1 0 0 0\ns 0 0 0 1\n"), 8, "needs 8 numbers, got 7")
-scene("scene syntax", "light_4_numbers", with_view(b"l 1 2 3 4\ns 0 0 0 1\n"), 8,
+scene("scene syntax", "material_7_numbers", with_view(b"f 1 1 1 1 0 0 0\ns 0 0 0 1\n"), 9,
+      "material (f) needs 8 numbers, got 7 (the entity begins at line 8)")
+scene("scene syntax", "light_4_numbers", with_view(b"l 1 2 3 4\ns 0 0 0 1\n"), 9,
       "light (l) needs 3 or 6 numbers, got 4")
-scene("scene syntax", "background_2_numbers", with_view(b"b 1 1\ns 0 0 0 1\n"), 8, "needs 3 numbers, got 2")
-scene("scene syntax", "from_2_numbers", view_with(2, "from 0 0"), 2, "from needs 3 numbers, got 2")
-scene("scene syntax", "polygon_vertex_2_numbers", with_view(b"p 3\n0 0 0\n1 0\n0 1 0\n"), 10,
-      "polygon vertex needs 3 numbers, got 2")
-scene("scene syntax", "patch_vertex_3_numbers", with_view(b"pp 3\n0 0 0 0 0 1\n1 0 0\n0 1 0 0 0 1\n"), 10,
-      "patch vertex needs 6 numbers")
+scene("scene syntax", "background_2_numbers", with_view(b"b 1 1\ns 0 0 0 1\n"), 9, "needs 3 numbers, got 2")
+scene("scene syntax", "from_2_numbers", view_with(2, "from 0 0"), 3,
+      "from needs 3 numbers, got 2 (the entity begins at line 2)")
+scene("scene syntax", "polygon_vertex_2_numbers", with_view(b"p 3\n0 0 0\n1 0\n0 1 0\n"), 8,
+      "polygon (p) ends early: expected 3 vertices (9 numbers), got 8 numbers")
+scene("scene syntax", "patch_vertex_3_numbers", with_view(b"pp 3\n0 0 0 0 0 1\n1 0 0\n0 1 0 0 0 1\n"), 8,
+      "patch (pp) ends early: expected 3 vertices (18 numbers), got 15 numbers")
+scene("scene syntax", "polygon_too_many_numbers", with_view(b"p 3\n0 0 0\n1 0 0\n0 1 0 7\n"), 11,
+      "needs 9 numbers after its count, got more")
+scene("scene syntax", "sphere_numbers_on_next_line", with_view(b"s 0 0 0 1\n2 3\n"), 9, "sphere needs 4 numbers, got 6")
+scene("scene syntax", "number_where_entity_expected", whole(b"7\n" + VIEW7 + b"s 0 0 0 1\n"), 1,
+      "number '7' where an entity was expected")
+scene("scene syntax", "v_with_a_number", view_with(1, "v 3"), 1, "v takes no numbers, got 1")
 # non-numbers, nan, inf, out of float range
 scene("numbers", "non_number", with_view(b"s 0 0 abc 1\n"), 8, "'abc' is not a number")
 scene("numbers", "nan", with_view(b"s 0 nan 0 1\n"), 8, "'nan' is not a finite number")
@@ -145,10 +153,10 @@ scene("geometry", "polygon_all_points_equal", with_view(b"p 3\n1 1 1\n1 1 1\n1 1
 scene("geometry", "polygon_non_planar", with_view(b"p 4\n0 0 0\n1 0 0\n1 1 0\n0 1 0.5\n"), 8, "not planar: vertex 3")
 scene("geometry", "polygon_2_vertices", with_view(b"p 2\n0 0 0\n1 0 0\n"), 8, "polygon vertex count: 2 is out of range")
 scene("geometry", "polygon_0_vertices", with_view(b"s 0 0 0 1\np 0\n"), 9, "polygon vertex count: 0 is out of range")
-scene("scene syntax", "polygon_ends_at_eof", with_view(b"s 0 0 0 1\np 4\n0 0 0\n1 0 0\n\n# end\n"), 11,
-      "ends early: expected 4 vertices, got 2")
+scene("scene syntax", "polygon_ends_at_eof", with_view(b"s 0 0 0 1\np 4\n0 0 0\n1 0 0\n\n# end\n"), 9,
+      "ends early: expected 4 vertices (12 numbers), got 6 numbers")
 scene("scene syntax", "polygon_cut_by_next_entity", with_view(b"p 4\n0 0 0\n1 0 0\n1 1 0\ns 0 0 0 1\n"), 12,
-      "polygon vertex needs 3 numbers, got 5 ('s' is not a number)")
+      "polygon (p) ends early: expected 4 vertices (12 numbers), got 9 numbers (the entity begins at line 8)")
 scene("geometry", "patch_collinear", with_view(b"pp 3\n0 0 0 0 0 1\n1 0 0 0 0 1\n2 0 0 0 0 1\n"), 8,
       "degenerate polygon")
 scene("geometry", "patch_zero_normal", with_view(b"pp 3\n0 0 0 0 0 1\n1 0 0 0 0 0\n0 1 0 0 0 1\n"), 10,
@@ -243,7 +251,7 @@ cli_scene("scene syntax", "unknown_entity", b"# c\nq 1 2\n", 9, "unknown entity 
 cli_scene("scene syntax", "empty", b"", 1, "empty scene file", with_view7=False)
 cli_scene("scene syntax", "no_view", b"s 0 0 0 1\n", 1, "viewpoint is missing", with_view7=False)
 cli_scene("scene syntax", "non_ascii", b"s 0 0 0 1\xe9\n", 8, "not printable ASCII")
-cli_scene("scene syntax", "polygon_ends_early", b"p 4\n0 0 0\n1 0 0\n", 10, "ends early")
+cli_scene("scene syntax", "polygon_ends_early", b"p 4\n0 0 0\n1 0 0\n", 8, "ends early")
 cli_scene("textures", "missing_texture", b"texture image nope.png 1 1\ns 0 0 0 1\n", 8, "cannot be read")
 
 add("scene syntax", "BadSceneWithDefaultModeIsStillBadInput", {"bad.nff": CLI_VIEW7 + b"s 0 0 0\n"},
@@ -254,6 +262,22 @@ add("geometry", "AbsoluteScenePathIsNamedAsGiven", {"bad.nff": CLI_VIEW7 + b"s 0
     "sphere radius is zero")
 add("scene syntax", "MissingFileIsInputError (Scene)", {}, ["render", "/nonexistent/epsray/none.nff", "--mode", "base"],
     "/nonexistent/epsray/none.nff", None, "none.nff")
+
+# Only regular files are read (InputFiles in tests/test_scene.cpp).
+add("scene syntax", "DevicesAndFifosAreRefusedAtOnce (device)", {}, ["render", "/dev/zero", "--mode", "base"],
+    "/dev/zero", 0, "not a regular file")
+add("scene syntax", "DevicesAndFifosAreRefusedAtOnce (folder)", {}, ["render", "{tmp}", "--mode", "base"],
+    "a folder as the scene", 0, "is a folder")
+# Transforms checked like the primitives they make (Transforms in tests/test_scene.cpp).
+scene("geometry", "scale_overflow", with_view(b"scale 1e30\nscale 1e30\ns 0 0 0 1\n"), 9, "scale is beyond float range")
+scene("geometry", "scale_underflow", with_view(b"scale 1e-30\nscale 1e-30\nbox 0 0 0 1 1 1\n"), 9,
+      "scale underflows to zero")
+scene("geometry", "box_underflow", with_view(b"scale 1e-19\nbox 0 0 0 1e-20 1 1\n"), 9,
+      "box size underflows to zero once scaled")
+scene("geometry", "translate_overflow", with_view(b"translate 3e38 0 0\ntranslate 3e38 0 0\ns 0 0 0 1\n"), 9,
+      "translation is beyond float range")
+scene("geometry", "sphere_centre_overflow", with_view(b"scale 1e20\ns 1e19 0 0 1\n"), 9,
+      "sphere centre is beyond float range")
 
 # --- camera path files: BadPath in tests/test_scene.cpp ------------------------------------
 
