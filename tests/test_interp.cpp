@@ -631,8 +631,8 @@ p 4
     sound_stats s;
     check_soundness(w, 16, 5, 9, s, defer);
     EXPECT_GT(s.accepted, 10);
-    // Deferring, nearly every cell with one topology is proven (all but one of 500 since
-    // session 15's secant forms); without, about one in five is refused.
+    // Deferring, nearly every cell with one topology is proven (all but one of 500 with
+    // the secant forms of sqrt, 1/x and x^k); without, about one in five is refused.
     EXPECT_GT(s.rejected, defer ? 0 : 5);
     EXPECT_EQ(s.deferred > 5, defer);  // cells across the occluder's shadow, the glass' edges, ...
     EXPECT_EQ(s.listed > 5, defer);

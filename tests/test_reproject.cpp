@@ -656,8 +656,8 @@ TEST(FaceRaster, OwnsThePixelsTheExactMethodOwns) {
       }
     }
   EXPECT_GT(owned, exact.size() / 2);
-  // Rounding at regions' edges. A long thin cell (since session 15 the predicate proves the
-  // room's cross beams in cells 3 m long) draws a sliver about a pixel high, whose row
+  // Rounding at regions' edges. A long thin cell (the predicate proves the room's cross
+  // beams in cells 3 m long) draws a sliver about a pixel high, whose row
   // rounds as a whole: 31 of the 34 wrong pixels here. fill_pixel sends them on.
   EXPECT_LE(differ, exact.size() / 500) << differ << " of " << owned << " owned pixels differ";
   EXPECT_LE(wrong, exact.size() / 500) << wrong << " drawn pixels lie outside their cell";

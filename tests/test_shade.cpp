@@ -891,7 +891,7 @@ struct tracer {
 };
 
 // The same tree, a blocker accepted when it is any primitive on the shadow segment
-// (docs/whitted-choices.md: the first blocker found is recorded, not necessarily the nearest).
+// (docs/radiance.md: the first blocker found is recorded, not necessarily the nearest).
 testing::AssertionResult same_tree(const ray_tree& got, const ray_tree& want,
                                    const std::vector<std::vector<int>>& blockers) {
   if (got.nodes.size() != want.nodes.size())

@@ -129,7 +129,7 @@ def make_walk(rng, view, pts, frames):
 def push_back(walk, rng):
     """The same walk through a telephoto lens from 10^2 to 10^5 times as far back along each
     frame's view, the view angle shrunk to frame the same region at the target (an eye
-    thousands of scene sizes away once broke the float reference: README, far eyes)."""
+    thousands of scene sizes away once broke the float reference: docs/stress.md, far eyes)."""
     s = 10 ** rng.uniform(2, 5)
     out = []
     for fr, at, up, ang in walk:

@@ -13,7 +13,7 @@ jobs=$(nproc)
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DEPSRAY_SANITIZE=address,undefined \
   -DEPSRAY_BENCH=OFF >/dev/null
 cmake --build build-asan -j"$jobs" >/dev/null
-# A failing test runs once more (--repeat until-pass:2): once in session 13 LeakSanitizer's
+# A failing test runs once more (--repeat until-pass:2): LeakSanitizer's
 # stop-the-world tracer itself crashed ("Tracer caught signal 11") at the exit of a test that
 # had passed. A test that fails twice fails CI; tools/run-tests.sh never retries.
 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \

@@ -201,7 +201,7 @@ inline bool hit_box(const box_geom& g, const ray& r, float tmax, float& t) {
 // The outward normal of the face a ray enters a box by (or, from inside, leaves it by),
 // decided by the slabs in double: in float, a hit within rounding of an edge (ulps of the
 // eye's distance) took either face's normal, so the reference's radiance there was noise
-// that a cell proven on one face could not follow (whitted-choices.md).
+// that a cell proven on one face could not follow (docs/radiance.md).
 inline vec3 box_face_normal(const box_geom& g, const ray& r) {
   const glm::dvec3 q = glm::dvec3(r.o) - glm::dvec3(g.c), d = glm::dvec3(r.d);
   const vec3* ax[3] = {&g.ax0, &g.ax1, &g.ax2};

@@ -23,8 +23,8 @@ struct interp_params {
   // The same three while the camera moves (frame_params::camera_moving): a moving eye needs
   // new cells along every edge each frame, and a cell it builds serves a few frames, so
   // there tracing a pixel or casting its shadow rays costs less than building and proving
-  // small cells. A resting camera builds them once and keeps them (session 14: the art-room
-  // walk 0.935 of the time with these, perf/pair.py; a still camera's frames unchanged).
+  // small cells. A resting camera builds them once and keeps them (the art-room walk took
+  // 0.935 of the time with these, perf/pair.py; a still camera's frames unchanged).
   float moving_min_cell_pixels = 32;
   float moving_failed_split_pixels = 128;
   float moving_defer_pixels = 1024;
