@@ -279,16 +279,16 @@ cli_options parse_args(const std::vector<std::string>& a) {
     }
   const unsigned bit = command_bit(o.command);
   for (size_t i = 1; i < a.size(); ++i) {
-    const std::string& arg = a[i];
-    if (arg.rfind("--", 0) != 0) {
-      if (!o.scene.empty() || o.command == "info") bad("unexpected argument " + quote_file(arg));
-      if (arg.empty()) bad("bad SCENE '': a file name cannot be empty");
-      o.scene = arg;
+    const std::string& given = a[i];
+    if (given.rfind("--", 0) != 0) {
+      if (!o.scene.empty() || o.command == "info") bad("unexpected argument " + quote_file(given));
+      if (given.empty()) bad("bad SCENE '': a file name cannot be empty");
+      o.scene = given;
       continue;
     }
     // --flag=value is --flag value.
-    const size_t eq = arg.find('=');
-    const std::string name = arg.substr(0, eq);
+    const size_t eq = given.find('=');
+    const std::string name = given.substr(0, eq);
     const flag_spec* f = find_flag(name, bit);
     if (!f) {
       if (name == "--frame") bad("--frame is for render only (" + o.command + " takes no single frame)");
@@ -298,7 +298,7 @@ cli_options parse_args(const std::vector<std::string>& a) {
     if (!f->value) {
       if (eq != std::string::npos) bad(name + " takes no value");
     } else if (eq != std::string::npos) {
-      value = arg.substr(eq + 1);
+      value = given.substr(eq + 1);
     } else {
       if (i + 1 >= a.size()) bad(name + " needs a value");
       value = a[++i];
