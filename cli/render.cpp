@@ -1,8 +1,12 @@
 #include "render.h"
 
+#include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <memory>
+#include <mutex>
+#include <thread>
 
 #include "accel/world.h"
 #include "common.h"
@@ -26,6 +30,43 @@ int interrupted(progress_line& bar, int signal) {
   bar.finish();
   std::fprintf(stderr, "epsray: interrupted by %s; nothing written\n", signal_name(signal));
   return interrupted_exit_code(signal);
+}
+
+// The frame, with the progress line redrawn from its rows as tiles finish (on a terminal
+// only): the time left is the time so far scaled by the rows left.
+frame_result render_frame_with_progress(workers& pool, const world& w, const camera& cam, frame_params fp,
+                                        progress_line& bar) {
+  if (!bar.shown()) return render_frame(pool, w, cam, fp);
+  std::atomic<int> rows{0};
+  fp.rows_done = &rows;
+  std::mutex m;
+  std::condition_variable wake;
+  bool finished = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::thread watcher([&] {
+    std::unique_lock<std::mutex> lock(m);
+    // Woken at once when the frame ends, so the frame's time holds no wait for this thread.
+    while (!wake.wait_for(lock, std::chrono::milliseconds(200), [&] { return finished; })) {
+      const int done = rows.load(std::memory_order_relaxed);
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      bar.show(done, cam.height, "rows rendered", done ? s * (cam.height - done) / done : -1);
+    }
+  });
+  struct joiner {
+    std::thread& t;
+    std::mutex& m;
+    std::condition_variable& c;
+    bool& f;
+    ~joiner() {
+      {
+        std::lock_guard<std::mutex> lock(m);
+        f = true;
+      }
+      c.notify_one();
+      t.join();
+    }
+  } join{watcher, m, wake, finished};
+  return render_frame(pool, w, cam, fp);
 }
 
 }  // namespace
@@ -69,7 +110,7 @@ int run_render(const cli_options& o) {
   const camera cam = make_camera(view, width, height);
   if (int s = interrupt_signal()) return interrupted(bar, s);
   bar.show(2, phases, "rendering", -1);
-  frame_result fr = render_frame(pool, w, cam, fp);
+  frame_result fr = render_frame_with_progress(pool, w, cam, fp, bar);
   double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   verify_result vr;
   if (o.verify) {

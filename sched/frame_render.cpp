@@ -296,6 +296,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       for (int y = tiles[i].y0; y < tiles[i].y1; ++y)
         for (int x = 0; x < cam.width; ++x) out.reasons.at(x, y) = reason_colour(pixel_reason::traced);
     tile_ticks[i] = cycle_now() - c0;
+    if (p.rows_done) p.rows_done->fetch_add(tiles[i].y1 - tiles[i].y0, std::memory_order_relaxed);
   });
   pool.history().ticks = std::move(tile_ticks);
   const auto a0 = std::chrono::steady_clock::now();

@@ -1,6 +1,7 @@
 // One frame rendered over scanline tiles on the workers. Per-tile results are combined in
 // tile order, so images and counts are the same for any thread count and schedule.
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -75,6 +76,9 @@ struct frame_params {
                                    // moving_failed_split_pixels applies)
   bool keep_ray_trees = false;     // base: fill frame_result::trees, one per pixel, raster order
   bool reasons = false;            // fill frame_result::reasons (the error-coded image)
+  // Rows shaded so far, added tile by tile as each finishes (null: not counted): a
+  // progress display reads it from another thread. Nothing the frame computes reads it.
+  std::atomic<int>* rows_done = nullptr;
   // The baselines' one knob each.
   int upsample = 2;    // upsample: trace every k-th pixel along each axis
   int reuse_age = 4;   // reuse: frames a pixel's radiance may be carried before it is traced again

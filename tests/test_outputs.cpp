@@ -212,6 +212,22 @@ TEST_F(Outputs, WalkProgressShowsOnATerminalWithTheTimeLeft) {
   EXPECT_NE(tty.text.find("3/3 frames"), std::string::npos) << tty.text;
 }
 
+// A render long enough to be seen (about 0.7 s in a release build on one thread; the line
+// is redrawn every 0.2 s): it counts the rows shaded, with the time left.
+TEST_F(Outputs, RenderProgressCountsRowsOnATerminal) {
+  terminal tty;
+  if (!tty.ok()) GTEST_SKIP() << "no pseudo-terminal here";
+  child c({"render", artroom, "--mode", "base", "--size", "960x720", "--threads", "1", "--png", "a.png"}, work.path(),
+          io.file("stdout"), tty.slave());
+  ASSERT_TRUE(c.running());
+  const int code = c.finish(120);
+  while (tty.read_some(100)) {
+  }
+  EXPECT_EQ(code, 0) << tty.text;
+  EXPECT_NE(tty.text.find("/720 rows rendered"), std::string::npos) << tty.text;
+  EXPECT_NE(tty.text.find("left"), std::string::npos) << tty.text;
+}
+
 TEST_F(Outputs, NoProgressIntoAFile) {
   test::write_file(work.file("s.nff"), small_scene);
   test::write_file(work.file("p.path"), three_frames);
