@@ -396,6 +396,20 @@ flag("flags and outputs", "walk_png_without_out_dir", ["walk", "good.nff", "--pa
 flag("flags and outputs", "walk_bad_scene_file",
      ["walk", "none.nff", "--path", "two.path", "--out-dir", "f", "--png"], "none.nff", file_input=True)
 
+# Empty names, a walk's --frame, switches given values, names with control characters.
+rflag("png_empty", ["--png", ""], "--png ''")
+rflag("pfm_empty_joined", ["--pfm="], "--pfm ''")
+rflag("stats_empty", ["--stats", ""], "--stats ''")
+rflag("path_empty", ["--path", ""], "--path ''")
+flag("flags and outputs", "scene_empty", ["render", "", "--png", "out.png"], "SCENE ''")
+flag("flags and outputs", "walk_frame", ["walk", "good.nff", "--path", "two.path", "--frame", "1"],
+     "--frame is for render only")
+rflag("switch_with_value", ["--quiet=yes"], "--quiet takes no value")
+rflag("joined_value_checked", ["--eps=-1"], "bad --eps '-1'")
+rflag("unknown_option_joined", ["--bogus=1"], "unknown option '--bogus'")
+flag("flags and outputs", "newline_in_scene_name", ["render", "no\nsuch.nff", "--png", "out.png"],
+     '"no\\nsuch.nff":', shown="render 'no⏎such.nff'", file_input=True)
+
 # --- tests/test_viewer.cpp: bad viewer scripts, checked before any window opens -----------
 
 VIEW_ARGS = ["view", str(VIEW_SCENE), "--script", "bad.script"]
