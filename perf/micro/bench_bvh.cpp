@@ -139,7 +139,8 @@ const walk_stats& count_walk(const world& w, const ray_set& set, bool closest) {
       for (std::uint32_t k = first; k < first + count; ++k) {
         float t;
         ++tests;
-        if (hit_shape(w.shapes[k], w.polys, r, tm, t)) {
+        // Leaves hold slots: a primitive split into pieces has several (world::slot_prim).
+        if (hit_shape(w.shapes[w.slot_prim[k]], w.polys, r, tm, t)) {
           if (!closest) return true;
           tm = t, any = true;
         }
