@@ -920,6 +920,7 @@ TEST(Transforms, OverflowUnderflowAndDegenerateResultsAreRefusedAtTheirLine) {
       {"scale 1e20\np 3\n0 0 0\n1e19 0 0\n0 1 0\n", 9, "vertex is beyond float range"},
       {"scale 1e20\nl 1e19 0 0\ns 0 0 0 1\n", 9, "light position is beyond float range"},
       {"scale 1e20\nc 0 0 0 1  1e19 0 0 1\n", 9, "cone apex is beyond float range"},
+      {"s 3e38 0 0 1e38\n", 8, "sphere extends beyond float range"},
   };
   for (const tcase& c : cases) {
     SCOPED_TRACE(c.text);

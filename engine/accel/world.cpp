@@ -22,7 +22,8 @@ void add_references(const scene& s, int src, std::vector<bounds>& boxes, std::ve
     vec3 n = axis / len;
     // Along a coordinate axis the box is tight already; pieces would only add slots.
     bool diagonal = std::max({std::fabs(n.x), std::fabs(n.y), std::fabs(n.z)}) < 0.95f;
-    int pieces = diagonal ? std::clamp(int(len / (4 * r)), 1, 8) : 1;
+    // Clamped before the conversion: len / 4r of a cone 3e38 long is no int.
+    int pieces = diagonal ? int(std::clamp(len / (4 * r), 1.0f, 8.0f)) : 1;
     if (pieces > 1) {
       vec3 side = r * glm::sqrt(glm::max(vec3(0), vec3(1) - n * n));  // end circle extent
       for (int k = 0; k < pieces; ++k) {

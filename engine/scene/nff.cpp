@@ -156,7 +156,32 @@ struct parser {
     return k;
   }
 
+  // A primitive's box must have a float extent: the BVH, the cone's pieces and the line
+  // space take differences of its coordinates in float (a cone from -3e38 to 3e38 does not).
+  void check_extent(const primitive& p) const {
+    glm::dvec3 lo(INFINITY), hi(-INFINITY);
+    auto grow = [&](vec3 q, double r) { lo = glm::min(lo, glm::dvec3(q) - r), hi = glm::max(hi, glm::dvec3(q) + r); };
+    switch (p.kind) {
+      case prim_kind::sphere: grow(p.a, std::fabs(double(p.r0))); break;
+      case prim_kind::disk: grow(p.a, double(p.r0)); break;
+      case prim_kind::cone: {
+        const double r = std::max(std::fabs(double(p.r0)), std::fabs(double(p.r1)));
+        grow(p.a, r), grow(p.b, r);
+        break;
+      }
+      case prim_kind::box: grow(p.a, 1.7321 * double(std::max({p.b.x, p.b.y, p.b.z}))); break;
+      default:
+        for (int i = 0; i < p.count; ++i) grow(s.vertices[size_t(p.first + i)], 0);
+    }
+    const glm::dvec3 e = hi - lo;
+    const double fmax = double(float_max);
+    if (!(std::max({e.x, e.y, e.z}) <= fmax && glm::all(glm::lessThanEqual(glm::abs(lo), glm::dvec3(fmax))) &&
+          glm::all(glm::lessThanEqual(glm::abs(hi), glm::dvec3(fmax)))))
+      fail(std::string(what) + " extends beyond float range");
+  }
+
   void add(primitive p) {
+    check_extent(p);
     p.material = material_index();
     p.line = key.line;
     s.prims.push_back(p);
