@@ -86,19 +86,31 @@ struct parser {
     return m.str();
   }
   // Takes the entity's next `n` words as number slots (checked later, each at its own line).
-  void take(size_t n, size_t need_total) {
+  // Does a number slot's word stand next (neither the end of the file nor a keyword)?
+  bool slot_next() const { return !in.peek().end() && !is_keyword(in.peek().text); }
+  // Takes n more words as number slots; short_of() says what is wrong when they run out.
+  template <class Message>
+  void take_or(size_t n, Message&& short_of) {
     for (size_t i = 0; i < n; ++i) {
-      const token& t = in.peek();
-      if (t.end() || is_keyword(t.text)) missing(count_message(what, need_total, words.size()));
+      if (!slot_next()) missing(short_of());
       words.push_back(in.next());
     }
   }
-  // After the last number: a further number means the entity was given too many.
-  void no_more(size_t n) {
-    if (!looks_decimal(in.peek().text)) return;
-    const int line = in.peek().line;
-    size_t got = words.size();
+  void take(size_t n, size_t need_total) {
+    take_or(n, [&] { return count_message(what, need_total, words.size()); });
+  }
+  // Numbers standing after the entity's last: false when there are none, else the first
+  // one's line and the count with them (the entity was given too many).
+  bool extra_numbers(int& line, size_t& got) {
+    if (!looks_decimal(in.peek().text)) return false;
+    line = in.peek().line, got = words.size();
     while (looks_decimal(in.peek().text)) in.next(), ++got;
+    return true;
+  }
+  void no_more(size_t n) {
+    int line;
+    size_t got;
+    if (!extra_numbers(line, got)) return;
     if (n == 0) fail(line, std::string(what) + " takes no numbers, got " + std::to_string(got));
     fail(line, count_message(what, n, got));
   }
@@ -156,8 +168,9 @@ struct parser {
     return k;
   }
 
-  // A primitive's box must have a float extent: the BVH, the cone's pieces and the line
-  // space take differences of its coordinates in float (a cone from -3e38 to 3e38 does not).
+  // A primitive's box must have float corners: the BVH and the shafts hold boxes in float.
+  // (A box wider than float's range, a sky dome of radius 3e38, is fine: its hit tests and
+  // delta are computed in double.)
   void check_extent(const primitive& p) const {
     glm::dvec3 lo(INFINITY), hi(-INFINITY);
     auto grow = [&](vec3 q, double r) { lo = glm::min(lo, glm::dvec3(q) - r), hi = glm::max(hi, glm::dvec3(q) + r); };
@@ -173,9 +186,8 @@ struct parser {
       default:
         for (int i = 0; i < p.count; ++i) grow(s.vertices[size_t(p.first + i)], 0);
     }
-    const glm::dvec3 e = hi - lo;
     const double fmax = double(float_max);
-    if (!(std::max({e.x, e.y, e.z}) <= fmax && glm::all(glm::lessThanEqual(glm::abs(lo), glm::dvec3(fmax))) &&
+    if (!(glm::all(glm::lessThanEqual(glm::abs(lo), glm::dvec3(fmax))) &&
           glm::all(glm::lessThanEqual(glm::abs(hi), glm::dvec3(fmax)))))
       fail(std::string(what) + " extends beyond float range");
   }
@@ -254,18 +266,12 @@ struct parser {
     long n = integer(0, patch ? "patch vertex count" : "polygon vertex count", 3, 1000000);
     const size_t per = patch ? 6 : 3;
     words.clear();
-    for (long i = 0; i < n; ++i) {
-      for (size_t j = 0; j < per; ++j) {
-        const token& t = in.peek();
-        if (t.end() || is_keyword(t.text)) {
-          std::ostringstream m;
-          m << what << " ends early: expected " << n << " vertices (" << size_t(n) * per << " numbers), got "
-            << words.size() << (words.size() == 1 ? " number" : " numbers");
-          missing(m.str());
-        }
-        words.push_back(in.next());
-      }
-    }
+    take_or(size_t(n) * per, [&] {
+      std::ostringstream m;
+      m << what << " ends early: expected " << n << " vertices (" << size_t(n) * per << " numbers), got "
+        << words.size() << (words.size() == 1 ? " number" : " numbers");
+      return m.str();
+    });
     if (looks_decimal(in.peek().text)) {
       std::ostringstream m;
       m << what << " of " << n << " vertices needs " << size_t(n) * per << " numbers after its count, got more";
@@ -349,24 +355,12 @@ struct parser {
     what = "light (l)";
     words.clear();
     take(3, 3);
+    auto three_or_six = [&](size_t got) { return "light (l) needs 3 or 6 numbers, got " + std::to_string(got); };
     // Three more numbers, when a number follows, are the light's colour.
-    if (!in.peek().end() && !is_keyword(in.peek().text)) {
-      for (int i = 0; i < 3; ++i) {
-        const token& t = in.peek();
-        if (t.end() || is_keyword(t.text)) {
-          std::ostringstream m;
-          m << "light (l) needs 3 or 6 numbers, got " << words.size();
-          missing(m.str());
-        }
-        words.push_back(in.next());
-      }
-    }
-    if (looks_decimal(in.peek().text)) {
-      const int line = in.peek().line;
-      size_t got = words.size();
-      while (looks_decimal(in.peek().text)) in.next(), ++got;
-      fail(line, "light (l) needs 3 or 6 numbers, got " + std::to_string(got));
-    }
+    if (slot_next()) take_or(3, [&] { return three_or_six(words.size()); });
+    int line;
+    size_t got;
+    if (extra_numbers(line, got)) fail(line, three_or_six(got));
     light li;
     li.position = placed(vec(0, "light position"), "light position");
     if (words.size() == 6) {
