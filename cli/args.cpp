@@ -138,6 +138,11 @@ const std::vector<flag_spec>& flags() {
        }},
       {"--pipeline", nullptr, W, false, "full: prepare each next frame's reprojection on a thread of its own",
        [](cli_options& o, arg, arg) { o.pipeline = true; }},
+      {"--keyframe", "N", W, false,
+       "start afresh (new linetrees, no cells to reproject) at every frame whose index is a multiple of N "
+       "(default 0: never); under mpirun, ranks' segments then start at keyframes only and every frame is "
+       "the same whatever the number of ranks (docs/mpi.md)",
+       [](cli_options& o, arg f, arg v) { o.keyframe = int(to_int(f, v, 0, 100000000)); }},
       {"--span", "N", ALL, false,
        "full: fill a plain cell's runs of pixels in screen space between end pixels at "
        "most N apart, the added error bounded (default " +
@@ -206,7 +211,8 @@ const char* synopsis(const std::string& c) {
            "                   [--out-dir DIR] [--png] [--pfm] [--stats OUT.json] [--verify] [options]\n"
            "Renders every camera of the path in order, keeping what it learned between frames.\n"
            "SIGINT or SIGTERM stops it after the frame in hand: the frames done and their stats\n"
-           "are kept (\"interrupted\": true), and it exits 130 or 143.\n";
+           "are kept (\"interrupted\": true), and it exits 130 or 143.\n"
+           "Under mpirun -np K, K ranks render contiguous segments of the path (docs/mpi.md).\n";
   if (c == "view")
     return "usage: epsray view [SCENE] [--path FILE] [--size WxH] [--eps E] [--threads N] [options]\n"
            "Opens a window on SCENE (default: the art room) and renders while you move.\n";

@@ -40,6 +40,9 @@ struct cli_options {
   int span_segment = interp_params{}.span_segment;  // full: screen-space span segments; 0: none
   bool reproject_osmesa = false;  // full: draw last frame's cells with OSMesa, not the exact per-pixel test
   bool pipeline = false;  // walk, full: prepare each next frame's reprojection on a thread of its own
+  // walk: every frame whose index is a multiple of keyframe starts afresh, with new linetrees
+  // and no cells to reproject (0: never); under mpirun, segments start only at keyframes.
+  int keyframe = 0;
   bool pin = false;  // bind worker threads to cores (hwloc)
   double memory_mb = 0;  // linetree memory budget; 0: none
   int upsample = 2, reuse_age = 4, lf_depth = 4;  // the baselines' knobs (frame_params)

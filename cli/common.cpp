@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "image/image_io.h"
+#include "scene/input_error.h"
 
 namespace epsray {
 
@@ -17,6 +18,26 @@ bool writable_folder(const std::filesystem::path& dir) {
 }
 
 }  // namespace
+
+int describe_error(const std::exception_ptr& e, std::string& line) {
+  // Every message is one line: control characters in what the user gave (a file name
+  // with a newline) are printed as C escapes.
+  try {
+    std::rethrow_exception(e);
+  } catch (const input_error& x) {
+    line = one_line(x);
+    return 2;
+  } catch (const usage_error& x) {
+    line = escape_controls(x.what());
+    return 2;
+  } catch (const std::exception& x) {
+    line = "epsray: " + escape_controls(x.what());
+    return 1;
+  } catch (...) {
+    line = "epsray: unknown error";
+    return 1;
+  }
+}
 
 void check_writable(const std::string& file, const char* flag) {
   namespace fs = std::filesystem;

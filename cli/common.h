@@ -1,6 +1,7 @@
 // What the commands share: output checks before any work, text files written whole, and
 // the frame parameters the command line sets.
 #pragma once
+#include <exception>
 #include <memory>
 #include <string>
 
@@ -10,6 +11,10 @@
 #include "sched/frame_render.h"
 
 namespace epsray {
+
+// The one line printed for an error and the exit code: 2 for bad input (input_error,
+// usage_error), 1 for anything else.
+int describe_error(const std::exception_ptr& e, std::string& line);
 
 // Output files must be writable before any work starts: bad input writes nothing.
 void check_writable(const std::string& file, const char* flag);

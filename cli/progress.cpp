@@ -7,8 +7,10 @@
 
 namespace epsray {
 
-progress_line::progress_line(bool quiet)
-    : shown_(!quiet && ::isatty(STDERR_FILENO)), start_(std::chrono::steady_clock::now()) {}
+progress_line::progress_line(bool quiet) : progress_line(quiet, ::isatty(STDERR_FILENO)) {}
+
+progress_line::progress_line(bool quiet, bool on_terminal)
+    : shown_(!quiet && on_terminal), start_(std::chrono::steady_clock::now()) {}
 
 std::string duration_text(double seconds) {
   const long s = std::lround(std::max(0.0, seconds));

@@ -9,6 +9,9 @@ namespace epsray {
 class progress_line {
  public:
   explicit progress_line(bool quiet);
+  // on_terminal: whether stderr reaches a terminal, where isatty cannot tell (a rank's
+  // stderr is a pipe to mpirun's).
+  progress_line(bool quiet, bool on_terminal);
   bool shown() const { return shown_; }
   // done of total steps (walk: frames; render: its phases), what the next or last step
   // is, and the seconds left where they can be estimated (negative: not known).

@@ -87,6 +87,7 @@ void write_stats_json(const run_record& r, const std::string& path) {
                            {"linetree_bytes", f.linetree_bytes}};
     fj["sched"] = {{"shade_ms", f.shade.wall_ms}, {"join_ms", f.shade.join_ms}, {"tail_ms", f.shade.tail_ms},
                    {"after_ms", f.after_ms}};
+    if (r.ranks > 0) fj["rank"] = f.rank;
     if (f.ahead_ms > 0) fj["ahead_ms"] = f.ahead_ms, fj["ahead_wait_ms"] = f.ahead_wait_ms;
     if (f.verified)
       fj["verify"] = {{"max_rel_err", f.max_rel_err}, {"violations", f.violations}, {"p999_rel_err", f.p999_rel_err},
@@ -101,6 +102,11 @@ void write_stats_json(const run_record& r, const std::string& path) {
   j["machine"] = {{"cpu", cpu_model()},
                   {"hardware_threads", hardware_threads()},
                   {"topology", discover_topology().summary()}};
+  if (r.ranks > 0) {
+    nlohmann::json segs = nlohmann::json::array();
+    for (const auto& [first, last] : r.segments) segs.push_back({first, last});
+    j["machine"]["mpi"] = {{"ranks", r.ranks}, {"segments", segs}, {"hosts", r.hosts}};
+  }
   // Invalid UTF-8 (a file name's bytes) is replaced, not a reason to lose the run.
   write_text_file(path, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }

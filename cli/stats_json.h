@@ -23,6 +23,7 @@ struct frame_record {
   bool verified = false;
   double max_rel_err = 0, p999_rel_err = 0, mean_rel_err = 0;
   std::uint64_t violations = 0;
+  int rank = 0;  // the rank that rendered it (a walk under mpirun)
 };
 
 // Frame `index`'s record; with vr (--verify), its errors.
@@ -37,6 +38,11 @@ struct run_record {
   double total_ms = 0;
   std::uint64_t peak_memory_bytes = 0;
   bool interrupted = false;  // walk stopped by SIGINT or SIGTERM: frames holds those done
+  // A walk under mpirun (ranks > 0): each rank's segment of the path [first, last] and its
+  // host; each frame then says its rank.
+  int ranks = 0;
+  std::vector<std::pair<int, int>> segments;
+  std::vector<std::string> hosts;
 };
 
 // A run's record before its frames: what the options and the image size say.

@@ -89,22 +89,8 @@ class child {
   pid_t pid_ = -1;
 };
 
-// Polls for `file` at most `seconds`.
-bool appears(const fs::path& file, double seconds) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  while (std::chrono::steady_clock::now() < end) {
-    if (fs::exists(file)) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return false;
-}
-
-std::vector<std::string> names_in(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
+using test::appears;
+using test::names_in;
 
 class Outputs : public testing::Test {
  protected:

@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <cstring>
+#include <algorithm>
 #include <initializer_list>
 #include <ostream>
 #include <string>
@@ -73,24 +74,34 @@ inline bool wait_or_kill(pid_t pid, double seconds, int& status) {
   return false;
 }
 
+// Starts `argv` (argv[0] the executable's path) in folder `cwd` with environment `env`, its
+// stdout and stderr into the files `out` and `err`, and leaves it running: its pid, or -1
+// (a test failure) when it cannot start.
+inline pid_t start_process(std::vector<std::string> argv, const fs::path& cwd, std::vector<std::string> env,
+                           const std::string& out, const std::string& err) {
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&fa, 2, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addchdir_np(&fa, cwd.c_str());
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, argv[0].c_str(), &fa, nullptr, c_strings(argv).data(), c_strings(env).data());
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) {
+    ADD_FAILURE() << "cannot start " << argv[0] << ": " << std::strerror(rc);
+    return -1;
+  }
+  return pid;
+}
+
 // Runs `argv` (argv[0] the executable's path) in folder `cwd` with environment `env`, its
 // stdout and stderr captured through files in `io`.
 inline proc_result run_process(std::vector<std::string> argv, const fs::path& cwd, std::vector<std::string> env,
                                const temp_dir& io, double timeout_s = 120) {
   const std::string out_path = io.file("stdout"), err_path = io.file("stderr");
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&fa, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addchdir_np(&fa, cwd.c_str());
-  pid_t pid = -1;
-  const int rc = posix_spawn(&pid, argv[0].c_str(), &fa, nullptr, c_strings(argv).data(), c_strings(env).data());
-  posix_spawn_file_actions_destroy(&fa);
+  const pid_t pid = start_process(std::move(argv), cwd, std::move(env), out_path, err_path);
   proc_result r;
-  if (rc != 0) {
-    ADD_FAILURE() << "cannot start " << argv[0] << ": " << std::strerror(rc);
-    return r;
-  }
+  if (pid < 0) return r;
   int status = 0;
   r.timed_out = !wait_or_kill(pid, timeout_s, status);
   r.exited = !r.timed_out && WIFEXITED(status);
@@ -99,6 +110,25 @@ inline proc_result run_process(std::vector<std::string> argv, const fs::path& cw
   r.out = read_file(out_path);
   r.err = read_file(err_path);
   return r;
+}
+
+// Polls for `file` at most `seconds`.
+inline bool appears(const fs::path& file, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    if (fs::exists(file)) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
+// The names in folder `dir`, sorted (none when it does not exist).
+inline std::vector<std::string> names_in(const fs::path& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
 }  // namespace epsray::test
