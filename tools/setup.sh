@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 
 packages=(cmake g++ make pkg-config libtbb-dev libglfw3-dev libglm-dev libosmesa6-dev libhwloc-dev
   libgtest-dev libbenchmark-dev libpng-dev libstb-dev nlohmann-json3-dev libimgui-dev
-  xvfb xauth gnuplot-nox tachyon clang-14 libclang-rt-14-dev)
+  xvfb xauth gnuplot-nox tachyon clang-14 libclang-rt-14-dev openmpi-bin libopenmpi-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")
