@@ -220,8 +220,18 @@ TEST_F(Mpi, InterruptedJobKeepsWholeFramesAndTheirStats) {
                                    "--pfm", "--stats", "s.json"};
   const pid_t pid = test::start_process(argv, work.path(), mpi_environment(), io.file("stdout"), io.file("stderr"));
   ASSERT_GT(pid, 0);
-  const bool started = appears(work.path() / "out" / "frame_0000.pfm", 60);
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // Both ranks have written a frame: rank 0's first, and one of rank 1's (from about 500).
+  bool started = appears(work.path() / "out" / "frame_0000.pfm", 60);
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  auto second_rank_wrote = [&] {
+    const std::vector<std::string> names = names_in(work.path() / "out");
+    return std::any_of(names.begin(), names.end(), [](const std::string& n) {
+      return n >= "frame_0300" && n.size() > 4 && n.compare(n.size() - 4, 4, ".pfm") == 0;
+    });
+  };
+  while (started && !second_rank_wrote() && std::chrono::steady_clock::now() < end)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  started = started && second_rank_wrote();
   kill(pid, SIGINT);
   int status = 0;
   ASSERT_TRUE(test::wait_or_kill(pid, 60, status)) << "mpirun did not end";

@@ -9,9 +9,10 @@ coherence lost at its cold start: over its first --window frames, the extra buil
 time (path_ms.build), eye rays and traced pixels against the same frames of the 1-rank
 walk, which arrived there warm.
 
-Model: one process walks scenes/paths/artroom-long.path (1,000 frames) twice at
---model-size, plainly and with --keyframe 50; the frames after each keyframe against
-the same frames of the plain walk give the cold start's extra cost C. With the measured
+Model: one process walks scenes/paths/artroom-long.path (1,000 frames) at --model-size;
+fresh processes walking --window frames from every --cold-every-th frame, against the
+same frames of the whole walk, give a segment's cold start C. (A --keyframe walk gives
+the cost of a restart inside one process, for --keyframe's price.) With the measured
 frame costs m_k and the start-up S (wall time less the frames), the walk on K ranks takes
 S + max over segments (C, but not for the segment at frame 0, + sum of m_k), for the
 segments epsray itself chooses for K ranks (read from the stats of a tiny walk under
@@ -95,8 +96,9 @@ def scaling(a, lines, out):
         walks.append((a.spd + " orbit", spd, orbit))
     flags = ["--mode", "full", "--threads", 1]
     lines.append("## Strong scaling: full mode, %s, one thread per rank\n" % a.size)
-    lines.append("| walk | frames | ranks | wall s (median of %d) | speed-up over 1 rank | load before |" % a.reps)
-    lines.append("|---|---:|---:|---:|---:|---|")
+    lines.append("| walk | frames | ranks | wall s (median of %d) | speed-up over 1 rank | best run s | speed-up, "
+                 "best runs | load before |" % a.reps)
+    lines.append("|---|---:|---:|---:|---:|---:|---:|---|")
     for name, scene, path in walks:
         runs = {k: [] for k in a.ranks}
         stats = {}
@@ -116,7 +118,9 @@ def scaling(a, lines, out):
             entry["runs"][str(k)] = {"wall_s": runs[k], "median_s": t, "speedup": t1 / t,
                                      "segments": stats[k]["machine"]["mpi"]["segments"],
                                      "frame_ms_sum": sum(f["ms"] for f in stats[k]["frames"])}
-            lines.append("| %s | %d | %d | %.2f | %.2f | %s |" % (name, n, k, t, t1 / t, loads[a.ranks.index(k)]))
+            b1, b = min(runs[a.ranks[0]]), min(runs[k])
+            lines.append("| %s | %d | %d | %.2f | %.2f | %.2f | %.2f | %s |" % (name, n, k, t, t1 / t, b, b1 / b,
+                                                                            loads[a.ranks.index(k)]))
         if len(a.ranks) > 1:
             entry["coherence"] = coherence(stats[a.ranks[0]], stats[a.ranks[-1]], a.window)
         out["scaling"].append(entry)
@@ -171,20 +175,30 @@ def model(a, lines, out):
     m = [f["ms"] for f in plain["frames"]]
     mk = [f["ms"] for f in keyed["frames"]]
     n = len(m)
-    # The cold start's extra: frames k0 .. k0 + w - 1 after each keyframe k0 > 0.
+    cams = [l for l in open(path) if l.strip() and not l.startswith("#")]
+    # A segment's cold start in a process of its own, as a rank makes it: the path's frames
+    # from s walked by a fresh process, against the same frames arrived at warm.
     extras = []
-    for k0 in range(a.keyframe, n, a.keyframe):
-        ks = range(k0, min(n, k0 + a.window))
-        extras.append(sum(mk[k] for k in ks) - sum(m[k] for k in ks))
+    with tempfile.TemporaryDirectory() as d:
+        for s0 in range(a.cold_every, n, a.cold_every):
+            sub = os.path.join(d, "from%d.path" % s0)
+            with open(sub, "w") as f:
+                f.writelines(cams[s0:s0 + a.window])
+            cold_run = run_walk(a.exe, scene, sub, flags)
+            extras.append(sum(f["ms"] for f in cold_run["frames"]) - sum(m[s0:s0 + a.window]))
     cold = statistics.median(extras)
+    # A keyframe's restart inside one process (--keyframe): its first frames against the plain walk's.
+    restarts = [sum(mk[k:k + a.window]) - sum(m[k:k + a.window]) for k in range(a.keyframe, n, a.keyframe)]
+    restart = statistics.median(restarts)
     startup_s = max(0.0, wall1 - sum(m) / 1000)
     lines.append("## Model: %d frames of artroom-long.path at %s, full mode, one thread per rank\n" %
                  (n, a.model_size))
-    lines.append("Measured in one process: frames %.1f ms median (sum %.1f s), the first %.1f ms; a cold start "
-                 "costs %.1f ms more than arriving warm (median over the %d keyframes of a --keyframe %d walk, "
-                 "first %d frames each; spread %.1f to %.1f ms); start-up and writing %.2f s.\n" %
-                 (statistics.median(m), sum(m) / 1000, m[0], cold, len(extras), a.keyframe, a.window, min(extras),
-                  max(extras), startup_s))
+    lines.append("Measured in one process: frames %.1f ms median (sum %.1f s), the first %.1f ms; start-up and "
+                 "writing %.2f s. A segment's cold start, in a process of its own, costs %.1f ms more over its first "
+                 "%d frames than arriving there warm (median of %d starts, every %d frames; spread %.1f to %.1f ms). "
+                 "A --keyframe %d restart inside the process costs %.1f ms (median of %d; spread %.1f to %.1f ms).\n" %
+                 (statistics.median(m), sum(m) / 1000, m[0], startup_s, cold, a.window, len(extras), a.cold_every,
+                  min(extras), max(extras), a.keyframe, restart, len(restarts), min(restarts), max(restarts)))
     lines.append("| ranks | frames per rank (largest) | predicted wall s | speed-up | efficiency | "
                  "balanced on measured costs: wall s | speed-up | efficiency |")
     lines.append("|---:|---:|---:|---:|---:|---:|---:|---:|")
@@ -227,7 +241,8 @@ def model(a, lines, out):
                                      ihalf, istop))
     lines.append("")
     out["model"] = {"size": a.model_size, "frames": n, "frame_ms": m, "keyframe": a.keyframe, "keyed_frame_ms": mk,
-                    "cold_extra_ms": cold, "cold_extras_ms": extras, "startup_s": startup_s, "one_rank_s": t1,
+                    "cold_extra_ms": cold, "cold_extras_ms": extras, "keyframe_restart_ms": restart,
+                    "keyframe_restarts_ms": restarts, "startup_s": startup_s, "one_rank_s": t1,
                     "rows": rows, "stops_paying_at": stop, "half_efficiency_at": half,
                     "ideal_stops_paying_at": istop, "ideal_half_efficiency_at": ihalf}
 
@@ -243,7 +258,8 @@ def main():
     ap.add_argument("--orbit-frames", type=int, default=60)
     ap.add_argument("--window", type=int, default=5, help="frames after a cold start counted as its cost")
     ap.add_argument("--model-size", default="320x240")
-    ap.add_argument("--keyframe", type=int, default=50, help="the model's cold starts: every N frames")
+    ap.add_argument("--keyframe", type=int, default=50, help="the --keyframe walk: a restart every N frames")
+    ap.add_argument("--cold-every", type=int, default=50, help="a cold segment start measured every N frames")
     ap.add_argument("--model-ranks", type=int, nargs="+", default=[2, 4, 8, 16, 32, 64])
     ap.add_argument("--ideal-ranks", type=int, nargs="*", default=[128, 256, 512],
                     help="ranks modelled on the balanced split alone")
