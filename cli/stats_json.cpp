@@ -33,6 +33,7 @@ std::string cpu_model() {
 frame_record make_frame_record(int index, const frame_result& fr, const verify_result* vr) {
   frame_record r{index, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms,
                  fr.ahead_ms, fr.ahead_wait_ms, fr.shade, fr.after_ms};
+  r.objects_off = fr.objects_off;
   if (vr) {
     r.verified = true, r.max_rel_err = vr->max_rel_err, r.p999_rel_err = vr->p999_rel_err;
     r.mean_rel_err = vr->mean_rel_err, r.violations = vr->violations;
@@ -83,6 +84,7 @@ void write_stats_json(const run_record& r, const std::string& path) {
                            {"span_ms", f.path_ms.span},
                            {"deferred_ms", f.path_ms.deferred},
                            {"build_ms", f.path_ms.build},
+                           {"objects_off", f.objects_off},
                            {"memory_bytes", f.memory_bytes},
                            {"linetree_bytes", f.linetree_bytes}};
     fj["sched"] = {{"shade_ms", f.shade.wall_ms}, {"join_ms", f.shade.join_ms}, {"tail_ms", f.shade.tail_ms},

@@ -20,6 +20,7 @@ struct frame_record {
   double ahead_ms = 0, ahead_wait_ms = 0;  // --pipeline (frame_result)
   phase_times shade;   // the tile phase and its threads' waits (frame_result)
   double after_ms = 0;
+  std::uint64_t objects_off = 0;  // interp, full: traced by the object gate in the next frame
   bool verified = false;
   double max_rel_err = 0, p999_rel_err = 0, mean_rel_err = 0;
   std::uint64_t violations = 0;

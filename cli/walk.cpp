@@ -114,6 +114,8 @@ walk_frames::rendered walk_frames::render(int k, int first, int last) {
   const camera cam = cam_of(k);
   // Moving: the camera differs from the path's frame before, whichever rank rendered it.
   fp_.camera_moving = k > 0 && !same_camera(cam, cam_of(k - 1));
+  // The path moves on after this frame (frame_params::moves_on), whichever rank renders the next.
+  fp_.moves_on = k + 1 < int(path_.frames.size()) && !same_camera(cam, cam_of(k + 1));
   // --pipeline: the next frame's reprojection is prepared while this one is shaded, unless
   // the next one starts afresh or belongs to another segment.
   const bool ahead = o_.pipeline && o_.mode == render_mode::full && k + 1 <= last && !cold(k + 1, first);

@@ -53,6 +53,7 @@ struct alignas(64) tile_totals {
   std::uint64_t ticks_span = 0;      // within fast
   std::uint64_t ticks_build = 0;     // within interp and base
   std::vector<cell_ref> cells;  // full: the cells this tile's pixels used, for the next frame
+  std::vector<gate_entry> gate;  // interp and full: per object, what its cells saved and cost
 };
 
 // Last frame's cells seen from the new eye: which pixels each one owns.
@@ -77,6 +78,35 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
   const int segment = f.p.span_segment;
   std::vector<glm::vec3> span_L(rp && segment > 0 ? size_t(cam.width) : 0);
   std::vector<std::uint8_t> span_ok(span_L.size());
+  // The object gate's counts, run by run of pixels of one object (neighbours mostly share it).
+  const bool gating = lf_depth < 0 && f.p.object_gate && f.trees->gate.enabled();
+  gate_entry run;
+  auto tally = [&](int prim) -> gate_tally& {
+    if (run.prim != prim) {
+      if (run.prim >= 0) tot.gate.push_back(run);
+      run = gate_entry{prim, {}};
+    }
+    return run.t;
+  };
+  std::uint64_t rays_before = 0, builds_before = 0;
+  auto gate_pixel = [&](const pixel_result& r) {
+    const std::uint64_t own = st.counts.total() - st.build_rays - rays_before;
+    const int prim = r.cell.ip ? scene_prim_of(*f.w, r.cell.prim) : r.gate_prim;
+    if (prim < 0) return;
+    gate_tally& g = tally(prim);
+    g.builds += st.builds - builds_before;
+    if (r.cell.ip && r.path == pixel_path::interp && rp) {
+      // Full mode reprojects the cell next frame, where its pixel is a fast one with no
+      // visibility ray: counted so, or a cold frame (all interpolated) would judge every
+      // object by a path it leaves after one frame.
+      ++g.fast, g.saved += r.cell.ip->tree_rays, g.own += own - std::min<std::uint64_t>(own, 1);
+    } else if (r.cell.ip && r.path != pixel_path::base) {
+      ++(r.path == pixel_path::fast ? g.fast : g.interp);
+      g.saved += r.cell.ip->tree_rays, g.own += own;
+    } else {
+      ++g.traced, g.traced_rays += own;
+    }
+  };
   auto count = [&](const pixel_result& r, std::uint64_t ticks) {
     if (rp && r.cell.node) note_cell(tot.cells, r.cell);
     const bool deferring = r.cell.ip && (r.cell.ip->deferred | r.cell.ip->deferred_rays);
@@ -96,7 +126,9 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
   };
   auto shade_one = [&](int x, int y) {
     pixel_result r;
-    const std::int32_t own = rp ? rp->owner[size_t(y) * size_t(cam.width) + size_t(x)] : -1;
+    if (gating) rays_before = st.counts.total() - st.build_rays, builds_before = st.builds;
+    std::int32_t own = rp ? rp->owner[size_t(y) * size_t(cam.width) + size_t(x)] : -1;
+    if (own >= 0 && f.off && f.off[size_t(scene_prim_of(*f.w, (*rp->cells)[size_t(own)].prim))]) own = -1;
     if (own >= 0 && fill_pixel(*f.w, cam, (*rp->cells)[size_t(own)], (*rp->trust)[size_t(own)], x, y, f.p.eps, st,
                                r.L)) {
       r.path = pixel_path::fast, r.reason = pixel_reason::reprojected, r.cell = (*rp->cells)[size_t(own)];
@@ -107,6 +139,7 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
     }
     out.at(x, y) = r.L;
     if (reasons) reasons->at(x, y) = reason_colour(r.reason);
+    if (gating) gate_pixel(r);
     count(r, lap());
   };
   for (int y = t.y0; y < t.y1; ++y) {
@@ -116,7 +149,8 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
       int xe = x;
       if (own >= 0)
         while (xe + 1 < cam.width && owner[xe + 1] == own) ++xe;
-      if (xe == x || span_L.empty() || !span_fillable((*rp->cells)[size_t(own)], (*rp->trust)[size_t(own)])) {
+      if (xe == x || span_L.empty() || !span_fillable((*rp->cells)[size_t(own)], (*rp->trust)[size_t(own)]) ||
+          (f.off && f.off[size_t(scene_prim_of(*f.w, (*rp->cells)[size_t(own)].prim))])) {
         for (; x <= xe; ++x) shade_one(x, y);
         continue;
       }
@@ -135,12 +169,17 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
         tot.pixels.span += std::uint64_t(passed);
         note_cell(tot.cells, c);
         tot.pixels.fast += std::uint64_t(passed), tot.ticks_fast += ticks, tot.ticks_span += ticks;
+        if (gating) {
+          gate_tally& g = tally(scene_prim_of(*f.w, c.prim));
+          g.span += std::uint64_t(passed), g.saved += std::uint64_t(passed) * c.ip->tree_rays;
+        }
       }
       for (int i = 0; i <= xe - x; ++i)
         if (!span_ok[size_t(i)]) shade_one(x + i, y);
       x = xe + 1;
     }
   }
+  if (run.prim >= 0) tot.gate.push_back(run);
   tot.rays = st.counts;
   tot.ticks_build = st.build_ticks;
 }
@@ -167,19 +206,30 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     f.p.min_cell_pixels = std::max(f.p.min_cell_pixels, f.p.moving_min_cell_pixels);
     f.p.failed_split_pixels = std::max(f.p.failed_split_pixels, f.p.moving_failed_split_pixels);
     f.p.defer_pixels = std::max(f.p.defer_pixels, f.p.moving_defer_pixels);
+  } else if (p.moves_on) {
+    f.p.failed_split_pixels = std::max(f.p.failed_split_pixels, f.p.moving_failed_split_pixels);
   }
   // Primitives too small on screen to be worth linetrees (interp and full): a function of
   // the camera alone, like every cost-model choice, so images do not depend on threads.
-  std::vector<std::uint8_t> small;
-  if ((p.mode == render_mode::interp || p.mode == render_mode::full) && f.p.min_prim_pixels > 0) {
+  // So are the objects the gate says do not pay (object_gate.h): decided from the last
+  // frame's counts, so also a function of what the frames before computed, not of threads.
+  std::vector<std::uint8_t> small, off;
+  const bool gated = (p.mode == render_mode::interp || p.mode == render_mode::full) && f.p.object_gate &&
+                     f.p.eps > 0 && p.trees->gate.enabled();
+  if ((p.mode == render_mode::interp || p.mode == render_mode::full) && (f.p.min_prim_pixels > 0 || gated)) {
     small.resize(w.prim_bounds.size());
+    if (gated) off.resize(small.size());
     pool.run([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, small.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
         small_primitives(w, cam, f.p.min_prim_pixels, r.begin(), r.end(), small.data());
+        if (gated)
+          for (size_t i = r.begin(); i < r.end(); ++i) small[i] |= off[i] = std::uint8_t(p.trees->gate.off(int(i)));
       });
     });
     f.small = small.data();
+    if (gated) f.off = off.data();
   }
+  if (!gated) f.p.object_gate = false;
   // Full: last frame's cells from the new eye (each checked once, in parallel), then each
   // tile's pixels take the first containing trusted cell.
   std::vector<std::int32_t, no_init_allocator<std::int32_t>> owner;  // reproject_cells fills it
@@ -190,6 +240,10 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     reprojection_state& rs = *p.reproj;
     owner.resize(size_t(cam.width) * size_t(cam.height));
     std::vector<cell_ref> last = std::move(rs.cells);  // the cells the last frame used
+    if (f.off)  // objects the gate now traces: their cells own no pixels
+      last.erase(std::remove_if(last.begin(), last.end(),
+                                [&](const cell_ref& c) { return f.off[size_t(scene_prim_of(w, c.prim))] != 0; }),
+                 last.end());
     reprojection_ahead& ahead = rs.ahead;
     const bool prepared = ahead.ready && same_camera(ahead.cam, cam) && ahead.owner.size() == owner.size();
     if (prepared) {
@@ -324,6 +378,12 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     keep_first_uses(next);
     for (const cell_ref& c : next) mark_used(*c.node, p.trees->frame());  // carried: never evicted now
     p.reproj->cells = std::move(next);
+  }
+  if (gated) {
+    std::vector<gate_entry> entries;
+    for (const tile_totals& t : totals) entries.insert(entries.end(), t.gate.begin(), t.gate.end());
+    p.trees->gate.update(entries, p.camera_moving);
+    out.objects_off = p.trees->gate.objects_off();
   }
   if (p.trees) p.trees->evict();  // between frames: nothing else touches the trees now
   for (const ray_tree_store& t : trees) out.trees.append(t);

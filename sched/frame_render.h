@@ -74,6 +74,12 @@ struct frame_params {
   const camera* next_camera = nullptr;
   bool camera_moving = false;      // the camera differs from the last frame's (interp_params::
                                    // moving_failed_split_pixels applies)
+  // The camera rests now but moves after this frame (a walk's first frame): the cells refused
+  // at an edge are split no further than a moving camera's are. Its other floors stay a
+  // resting camera's: the cells it refines serve the frames that follow (the art-room walk
+  // took 1.12 of the time with all three floors moving in its first frame, 1.008 with this
+  // one; mount-s4's and teapot-s6's orbits 0.90 and 0.96, perf/pair.py).
+  bool moves_on = false;
   bool keep_ray_trees = false;     // base: fill frame_result::trees, one per pixel, raster order
   bool reasons = false;            // fill frame_result::reasons (the error-coded image)
   // Rows shaded so far, added tile by tile as each finishes (null: not counted): a
@@ -96,6 +102,9 @@ struct frame_result {
   // this frame then waited for it (the part that did not overlap the shading).
   double ahead_ms = 0, ahead_wait_ms = 0;
   std::uint64_t reprojected_cells = 0, trusted_cells = 0;
+  // Interp and full: objects the gate will trace with no linetree in the next frame
+  // (engine/interp/object_gate.h).
+  std::uint64_t objects_off = 0;
   path_times path_ms;
   // Where the wall time went: the tile phase (with its threads' waits) and what follows it
   // (full: merging the cells used, eviction).

@@ -38,6 +38,14 @@ std::uint8_t axes_by_extent(const lt_node& n) {
   return ac > 1.5f * bd ? split_ac : (bd > 1.5f * ac ? split_bd : split_all);
 }
 
+// The rays a ray tree stands for: one per node (a miss included) and one per shadow ray
+// (a light in front of the surface).
+std::uint16_t tree_rays(const ray_tree& t) {
+  size_t n = t.nodes.size();
+  for (std::int32_t s : t.lights) n += s != light_behind;
+  return std::uint16_t(std::min<size_t>(n, 65535));
+}
+
 bool strictly_inside(const lt_node& n, const float x[4]) {
   for (int i = 0; i < 4; ++i)
     if (!(x[i] > n.lo[i] && x[i] < n.hi[i])) return false;
@@ -176,6 +184,7 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
   cell_query q;
   q.w = &w, q.prim = prim, q.fp = &fp, q.lo = n.lo, q.hi = n.hi, q.tree = trees[0], q.textured = textured;
   q.deferred = deferred, q.deferred_rays = deferred_rays, q.allow_defer = defer;
+  ip->tree_rays = tree_rays(*trees[0]);
   cell_bound b = bound_cell(q);
   ip->reason = b.reason, ip->err = b.err, ip->hit_box = b.hit_box;
   ip->split = b.reason == cell_reason::valid || b.reason == cell_reason::nonlinear ? b.split : axes_by_extent(n);
@@ -335,6 +344,7 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
   pixel_result out;
   const pixel_line pl = find_pixel_line(f, x, y, st, out);
   if (!pl.lt) return out;
+  out.gate_prim = pl.h.prim;
   linetree& lt = *pl.lt;
   const ray& r = pl.r;
   const hit& h = pl.h;
@@ -367,11 +377,14 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
       // A shadow or secondary ray per pixel costs more than splitting a large cell, whose
       // children mostly prove what it could not: only small cells defer.
       const bool defer = pixels < f.p.defer_pixels;
-      const std::uint64_t b0 = cycle_now();
+      const std::uint64_t b0 = cycle_now(), r0 = st.counts.total();
+      bool won = false;
       ip = publish(*node,
                    build_interpolant(w, pl.prim, lt.fp, *node, terminal, defer, f.trees->samples(), st, scratch, true),
-                   f.trees->node_bytes());
+                   f.trees->node_bytes(), &won);
       st.build_ticks += cycle_now() - b0;
+      st.build_rays += st.counts.total() - r0;
+      st.builds += won;
     }
     if (!cell_accurate(*ip, f.p.eps)) {
       const std::uint8_t axes = f.p.four_way ? ip->split : std::uint8_t(split_all);

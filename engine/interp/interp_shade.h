@@ -33,6 +33,9 @@ struct interp_params {
   // 16 corner lines and the bound of each cell cost more than a few dozen pixels save,
   // and an object that small is mostly silhouette (an SPD scene's thousand triangles).
   float min_prim_pixels = 1024;
+  // Objects whose cells cost more than they save, by the counts of the last frame, are
+  // traced for the next frames (object_gate.h); false: every object keeps its linetrees.
+  bool object_gate = true;
   bool four_way = true;        // halve only the axes the failure points at (section 8.6)
   // Full: runs of a plain cell's pixels are span-filled in screen space, in segments of at
   // most this many pixels (engine/reproject/span_fill.h); 0: every pixel evaluates its cell.
@@ -69,6 +72,9 @@ struct interp_frame {
   // Per primitive, nonzero when its box covers under p.min_prim_pixels on screen
   // (small_primitives); null: none is.
   const std::uint8_t* small = nullptr;
+  // Per primitive, nonzero when the object gate traces it this frame (also set in small);
+  // full mode does not reproject its cells. Null: none.
+  const std::uint8_t* off = nullptr;
 };
 
 // Marks the primitives whose boxes cover fewer than min_pixels pixels of the image from
@@ -89,6 +95,9 @@ struct pixel_result {
   pixel_path path = pixel_path::base;
   pixel_reason reason = pixel_reason::traced;
   cell_ref cell;  // path interp or fast: the cell used
+  // The primitive whose linetree the pixel looked up (the eye ray's hit), -1 when it
+  // needed none: what the object gate charges a traced pixel's failed lookup to.
+  int gate_prim = -1;
 };
 
 pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state& st, interp_scratch& scratch);

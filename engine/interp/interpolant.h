@@ -40,6 +40,10 @@ struct interpolant {
   std::uint8_t deferred = 0;  // bit j: light j is shaded per pixel with a shadow ray, not
                               // interpolated (its visibility changes inside the cell)
   std::uint8_t deferred_rays = 0;  // deferred_reflect / deferred_refract: traced per pixel
+  // Rays the reference casts for corner 0's line (its ray tree's rays and shadow rays,
+  // deferred parts included): what a pixel served by the cell would cost traced, in the
+  // object gate's count of what cells save (engine/interp/object_gate.h).
+  std::uint16_t tree_rays = 0;
   shadow_candidates shadow;        // deferred lights' possible blockers (engine/shade/whitted.h)
   glm::vec3 rad[16];       // radiance but the deferred lights'; textured: the part the
                            // texture does not multiply

@@ -50,11 +50,14 @@ lt_node* subdivide(lt_node& n, std::uint8_t axes, std::atomic<std::size_t>* byte
   return kids;
 }
 
-const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::atomic<std::size_t>* bytes) {
+const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::atomic<std::size_t>* bytes,
+                           bool* won) {
+  if (won) *won = false;
   interpolant* mine = made->reason == cell_reason::valid ? made.get()
                                                           : const_cast<interpolant*>(failure_record(made->reason, made->split));
   interpolant* expected = nullptr;
   if (!n.interp.compare_exchange_strong(expected, mine, std::memory_order_acq_rel)) return expected;
+  if (won) *won = true;
   if (mine == made.get()) {
     made.release();
     if (bytes) bytes->fetch_add(mine->bytes(), std::memory_order_relaxed);
@@ -85,6 +88,7 @@ linetree_set::linetree_set(const std::vector<bounds>& prim_bounds, size_t memory
     for (auto& t : trees_[i]) t.store(nullptr, std::memory_order_relaxed);
   flat_.reserve(count_);
   for (const bounds& b : bounds_) flat_.push_back(std::int8_t(flat_axis(b)));
+  gate.resize(count_);
 }
 
 linetree_set::~linetree_set() {

@@ -15,6 +15,7 @@
 
 #include "interp/interpolant.h"
 #include "interp/line_space.h"
+#include "interp/object_gate.h"
 #include "interp/sample_cache.h"
 
 namespace epsray {
@@ -81,7 +82,10 @@ inline lt_node* child_at(const lt_node& n, lt_node* kids, const float x[4]) {
 lt_node* subdivide(lt_node& n, std::uint8_t axes = split_all, std::atomic<std::size_t>* bytes = nullptr);
 // Publishes `made` as n's interpolant unless another thread did first; returns the winner,
 // whose bytes (a valid interpolant's; failures share records) go to *bytes when given.
-const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::atomic<std::size_t>* bytes = nullptr);
+// *won (when given) says whether `made` was the one published: exactly one call per node
+// wins, so counting wins counts the cells built, whichever thread built them.
+const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::atomic<std::size_t>* bytes = nullptr,
+                           bool* won = nullptr);
 
 // The linetrees of every primitive, six facepairs each, created on first use.
 class linetree_set {
@@ -115,6 +119,9 @@ class linetree_set {
   size_t evict();
   // Line samples and ray trees shared by every cell of every tree of this set.
   sample_cache& samples() { return samples_; }
+  // Which objects are traced with no linetree for now, decided from each frame's counts
+  // (object_gate.h); kept with the trees, whose frames it follows.
+  object_gate gate;
 
  private:
   std::vector<bounds> bounds_;  // a copy: small, and no lifetime tie to the world

@@ -12,6 +12,7 @@ constexpr int max_depth = 5;  // eye ray = depth 1 (SPD testing procedure)
 
 struct ray_counts {
   std::uint64_t eye = 0, reflect = 0, refract = 0, shadow = 0;
+  std::uint64_t total() const { return eye + reflect + refract + shadow; }
   ray_counts& operator+=(const ray_counts& o) {
     eye += o.eye, reflect += o.reflect, refract += o.refract, shadow += o.shadow;
     return *this;
@@ -26,6 +27,12 @@ struct trace_state {
   // Time-stamp counter ticks spent building interpolants (engine/interp), which the
   // pixel that first reaches a cell pays: --stats build_ms.
   std::uint64_t build_ticks = 0;
+  // Rays traced while building interpolants (within counts) and the cells this state
+  // published: which pixel pays for a build depends on the threads' race, so the object
+  // gate (engine/interp/object_gate.h) counts a pixel's own rays without these, and the
+  // builds by their number, which does not depend on it.
+  std::uint64_t build_rays = 0;
+  std::uint32_t builds = 0;
   ray_tree* tree = nullptr;
   // Per light, the primitive that last blocked a shadow ray: neighbouring points are mostly
   // shadowed by the same one, so it is tested before a BVH walk. Only whether something

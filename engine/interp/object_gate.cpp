@@ -1,0 +1,59 @@
+#include "interp/object_gate.h"
+
+#include <algorithm>
+
+namespace epsray {
+
+gate_tally& gate_tally::operator+=(const gate_tally& o) {
+  fast += o.fast, span += o.span, interp += o.interp, saved += o.saved, own += o.own;
+  traced += o.traced, traced_rays += o.traced_rays, builds += o.builds;
+  return *this;
+}
+
+double gate_gain(const gate_tally& t, bool moving, const gate_weights& wt) {
+  double gain = double(t.saved) - double(t.own);
+  gain -= wt.fast * double(t.fast) + wt.span * double(t.span) + wt.interp * double(t.interp);
+  gain -= wt.failed_lookup * double(t.traced);
+  if (moving && t.builds) {
+    // A corner line costs what a traced pixel of the object does.
+    const double pixels = double(t.fast + t.span + t.interp + t.traced);
+    const double per_line = pixels > 0 ? double(t.saved + t.traced_rays) / pixels : 1.0;
+    gain -= 16 * wt.corner_share * per_line * double(t.builds);
+  }
+  return gain;
+}
+
+void object_gate::resize(std::size_t prims) {
+  off_until_.assign(prims, 0);
+  strikes_.assign(prims, 0);
+  sum_.assign(prims, gate_tally{});
+  touched_.clear();
+}
+
+void object_gate::update(const std::vector<gate_entry>& tallies, bool moving) {
+  if (!enabled()) return;
+  for (const gate_entry& e : tallies) {
+    if (e.prim < 0 || std::size_t(e.prim) >= sum_.size()) continue;
+    gate_tally& s = sum_[std::size_t(e.prim)];
+    if (!(s.fast | s.span | s.interp | s.traced | s.builds)) touched_.push_back(e.prim);
+    s += e.t;
+  }
+  ++frame_;  // the frame now coming
+
+  for (int p : touched_) {
+    gate_tally& s = sum_[std::size_t(p)];
+    if (gate_gain(s, moving) < 0) {
+      const std::uint8_t k = strikes_[std::size_t(p)];
+      off_until_[std::size_t(p)] = frame_ + (8u << std::min<unsigned>(k, 3));
+      strikes_[std::size_t(p)] = std::uint8_t(std::min(k + 1, 255));
+    }
+    s = gate_tally{};
+  }
+  touched_.clear();
+}
+
+std::size_t object_gate::objects_off() const {
+  return std::size_t(std::count_if(off_until_.begin(), off_until_.end(), [&](std::uint32_t u) { return frame_ < u; }));
+}
+
+}  // namespace epsray

@@ -1,0 +1,65 @@
+// Whether an object's linetrees pay (section 3 of docs/walkthroughs.md): a count-based
+// choice per object, made after each frame for the next ones. A pixel served by a cell
+// saves the rays the reference would cast for it (its cell's corner tree, tree_rays) less
+// the rays it still casts (deferred lights and secondary rays) and what its path costs
+// (a lookup, an interpolation, a span); a traced pixel that looked up a tree lost the
+// lookup; a moving camera's builds cost 16 corner lines each. An object whose cells saved
+// less than they cost is traced, with no linetree, for the next frames, and tried again
+// after 8, 16, 32 and then every 64 frames. Everything counted is an integer that does not
+// depend on the threads (a build is counted by the call that published it, which exactly
+// one call does), so images do not depend on threads or timing.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+namespace epsray {
+
+// One object's counts over part of a frame.
+struct gate_tally {
+  std::uint64_t fast = 0, span = 0, interp = 0;  // pixels served from its cells, by path
+  std::uint64_t saved = 0;   // the tree_rays of those pixels' cells
+  std::uint64_t own = 0;     // the rays those pixels cast themselves
+  std::uint64_t traced = 0;  // pixels that looked up its linetree and were traced
+  std::uint64_t traced_rays = 0;
+  std::uint64_t builds = 0;  // cells published for it
+  gate_tally& operator+=(const gate_tally& o);
+};
+
+struct gate_entry {
+  int prim = -1;
+  gate_tally t;
+};
+
+// The weights of the gate's cost model, in rays: what each path costs beyond the rays it
+// casts, from the measured per-path costs (docs/walkthroughs.md, section 3: an interpolated
+// pixel's lookup and interpolation cost about 0.23 of a traced pixel of 3-4 rays, a fast
+// pixel with nothing deferred 0.13, a span-filled one 0.05). Heavier weights turned off
+// objects that paid: the art-room walk took 1.055 of the time with 1.5, 0.2, 1.5.
+struct gate_weights {
+  double fast = 0.6, span = 0.1, interp = 0.8, failed_lookup = 0.5;
+  double corner_share = 0.5;  // of a build's 16 corner lines, those traced (the rest are shared)
+};
+
+// The gain of an object's cells over a frame, in rays (negative: they cost more than they saved).
+double gate_gain(const gate_tally& t, bool moving, const gate_weights& wt = {});
+
+class object_gate {
+ public:
+  void resize(std::size_t prims);
+  bool enabled() const { return !off_until_.empty(); }
+  // Is prim traced, with no linetree, in the coming frame?
+  bool off(int prim) const { return frame_ < off_until_[std::size_t(prim)]; }
+  // After a frame: its tallies (any order; entries of one prim are summed), and whether the
+  // camera moved (builds count only then: a resting camera keeps its cells).
+  void update(const std::vector<gate_entry>& tallies, bool moving);
+  std::size_t objects_off() const;
+
+ private:
+  std::uint32_t frame_ = 0;
+  std::vector<std::uint32_t> off_until_;  // the frame from which the object has linetrees again
+  std::vector<std::uint8_t> strikes_;     // times turned off: the next retry waits longer
+  std::vector<gate_tally> sum_;           // update's scratch
+  std::vector<int> touched_;
+};
+
+}  // namespace epsray

@@ -1,0 +1,152 @@
+// The object gate (engine/interp/object_gate.h): an object whose cells cost more than they
+// save, by counts of rays and pixels, is traced for the next frames and tried again later;
+// what it decides depends on counts alone, so a walk's images do not depend on threads.
+#include <gtest/gtest.h>
+
+#include "interp/object_gate.h"
+#include "sched/frame_render.h"
+#include "sched/verify.h"
+#include "test_util.h"
+
+namespace epsray {
+namespace {
+
+TEST(ObjectGate, GainIsSavedRaysLessWhatThePathsAndBuildsCost) {
+  gate_tally t;
+  t.fast = 10, t.span = 20, t.interp = 5, t.saved = 140, t.own = 30, t.traced = 4, t.traced_rays = 20;
+  const gate_weights wt;
+  const double paths = wt.fast * 10 + wt.span * 20 + wt.interp * 5 + wt.failed_lookup * 4;
+  EXPECT_DOUBLE_EQ(gate_gain(t, false), 140 - 30 - paths);
+  t.builds = 2;  // a corner line costs what a traced pixel of the object does: (140 + 20) / 39 rays
+  EXPECT_DOUBLE_EQ(gate_gain(t, false), 140 - 30 - paths) << "a resting camera keeps its cells: builds are free";
+  EXPECT_DOUBLE_EQ(gate_gain(t, true), 140 - 30 - paths - 16 * wt.corner_share * (160.0 / 39) * 2);
+}
+
+TEST(ObjectGate, LosingObjectIsTracedThenTriedAgainLaterEachTime) {
+  object_gate g;
+  g.resize(3);
+  gate_entry losing{1, {}}, paying{2, {}};
+  losing.t.fast = 100, losing.t.saved = 300, losing.t.own = 290;  // saves 10 rays, costs 60
+  paying.t.span = 100, paying.t.saved = 400;
+  g.update({losing, paying}, false);
+  EXPECT_FALSE(g.off(0));
+  EXPECT_TRUE(g.off(1));
+  EXPECT_FALSE(g.off(2));
+  EXPECT_EQ(g.objects_off(), 1u);
+  // Off for 8 frames, in which nothing of it is counted; then tried again.
+  for (int k = 0; k < 7; ++k) {
+    g.update({paying}, true);
+    EXPECT_TRUE(g.off(1)) << k;
+  }
+  g.update({paying}, true);
+  EXPECT_FALSE(g.off(1));
+  // Losing again: off for 16 frames this time.
+  g.update({losing}, true);
+  int frames_off = 0;
+  while (g.off(1)) g.update({}, true), ++frames_off;
+  EXPECT_EQ(frames_off, 16);
+  // The entries of one object are summed before the decision: two halves that pay together.
+  gate_entry half_a{0, {}}, half_b{0, {}};
+  half_a.t.fast = 10, half_a.t.saved = 40, half_a.t.own = 40;  // alone: -6
+  half_b.t.span = 100, half_b.t.saved = 100;                    // +90
+  g.update({half_a, half_b}, false);
+  EXPECT_FALSE(g.off(0));
+}
+
+// A matte wall that its cells serve well, and before it a large glass sphere, whose cells
+// fail or leave its refraction of the wall's squares to per-pixel rays while their
+// corner lines carry the refraction chains: they cost more than they save.
+const char* glass_scene = R"(
+v
+from 0 0.5 6
+at 0 0.5 0
+up 0 1 0
+angle 40
+hither 0.01
+resolution 64 48
+l 2 4 6
+f 0.8 0.8 0.75 0.9 0 0 0 1
+p 4
+-6 -3 -2
+6 -3 -2
+6 5 -2
+-6 5 -2
+f 0.2 0.3 0.9 0.9 0 0 0 1
+p 4
+-1.5 -0.5 -1.9
+-0.5 -0.5 -1.9
+-0.5 0.5 -1.9
+-1.5 0.5 -1.9
+f 0.9 0.2 0.2 0.9 0 0 0 1
+p 4
+0.5 0.5 -1.9
+1.5 0.5 -1.9
+1.5 1.5 -1.9
+0.5 1.5 -1.9
+f 1 1 1 0.05 0.1 30 0.9 1.5
+s 0 0.5 1 1.3
+)";
+
+struct gated_walk {
+  std::vector<image> frames;
+  std::vector<std::uint64_t> off;
+  std::uint64_t fast = 0, base = 0;
+  std::uint64_t eye_rays = 0;  // frames 1 on: the visibility rays and the builds' corner lines
+};
+
+gated_walk walk(const world& w, int frames, int threads, bool gate, bool verify, tile_order order) {
+  linetree_set trees(w.prim_bounds);
+  reprojection_state reproj;
+  workers pool(threads);
+  frame_params p;
+  p.mode = render_mode::full;
+  p.interp.object_gate = gate;
+  p.trees = &trees, p.reproj = &reproj, p.order = order;
+  gated_walk out;
+  camera last;
+  for (int k = 0; k < frames; ++k) {
+    camera_view v = w.sc.view;
+    v.from.x += 0.08f * float(k), v.at.x += 0.08f * float(k);
+    const camera cam = make_camera(v, 96, 72);
+    p.camera_moving = k > 0 && !same_camera(cam, last);
+    last = cam;
+    frame_result fr = render_frame(pool, w, cam, p);
+    if (verify) {
+      const verify_result vr = verify_frame(pool, w, cam, fr.img, p.interp.eps);
+      EXPECT_EQ(vr.violations, 0u) << "frame " << k << ", max error " << vr.max_rel_err;
+    }
+    out.off.push_back(fr.objects_off);
+    out.fast += fr.pixels.fast, out.base += fr.pixels.base;
+    if (k > 0) out.eye_rays += fr.rays.eye;
+    out.frames.push_back(std::move(fr.img));
+  }
+  return out;
+}
+
+TEST(ObjectGate, GlassSphereIsTracedWhileTheWallKeepsItsCellsWithinEps) {
+  const world w = test::world_from_text(glass_scene);
+  const gated_walk on = walk(w, 12, 2, true, true, tile_order::costly_first);
+  const gated_walk off = walk(w, 12, 2, false, false, tile_order::costly_first);
+  std::uint64_t most = 0;
+  for (std::uint64_t n : on.off) most = std::max(most, n);
+  EXPECT_GE(most, 1u) << "the glass sphere's cells do not pay: it is traced for a while";
+  for (std::uint64_t n : off.off) EXPECT_EQ(n, 0u) << "--object-gate off traces nothing for the gate";
+  EXPECT_GT(on.fast, off.fast / 2) << "the walls keep their cells";
+  EXPECT_LT(on.eye_rays, off.eye_rays) << "no lines are traced for the gated sphere's cells";
+}
+
+TEST(ObjectGate, GatedWalkIgnoresThreadCountAndTileOrder) {
+  const world w = test::world_from_text(glass_scene);
+  const gated_walk a = walk(w, 12, 1, true, false, tile_order::costly_first);
+  for (int threads : {2, 8}) {
+    const gated_walk b = walk(w, 12, threads, true, false, threads == 8 ? tile_order::scan : tile_order::costly_first);
+    ASSERT_EQ(a.frames.size(), b.frames.size());
+    for (size_t k = 0; k < a.frames.size(); ++k) {
+      EXPECT_TRUE(test::same_pixels(a.frames[k], b.frames[k])) << threads << " threads, frame " << k;
+      EXPECT_EQ(a.off[k], b.off[k]) << threads << " threads, frame " << k;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace epsray
