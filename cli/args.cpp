@@ -174,6 +174,13 @@ const std::vector<flag_spec>& flags() {
          if (v != "on" && v != "off") bad("bad --object-gate '" + v + "': expected on or off");
          o.object_gate = v == "on";
        }},
+      {"--mirror", "on|off", ALL, false,
+       std::string("full: a planar reflector's reflections through the mirrored eye, from reprojected cells (default ") +
+           (ip.mirror ? "on" : "off") + ")",
+       [](cli_options& o, arg, arg v) {
+         if (v != "on" && v != "off") bad("bad --mirror '" + v + "': expected on or off");
+         o.mirror = v == "on";
+       }},
       {"--split", "4|16", ALL, false,
        std::string("split a refused cell along the axes the failure points at (4) or always all four (16) (default ") +
            (ip.four_way ? "4" : "16") + ")",

@@ -34,6 +34,8 @@ frame_record make_frame_record(int index, const frame_result& fr, const verify_r
   frame_record r{index, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms,
                  fr.ahead_ms, fr.ahead_wait_ms, fr.shade, fr.after_ms};
   r.objects_off = fr.objects_off;
+  r.mirror_filled = fr.mirror_filled, r.mirror_looked_up = fr.mirror_looked_up, r.mirror_traced = fr.mirror_traced;
+  r.mirror_cells = fr.mirror_cells, r.mirror_trusted = fr.mirror_trusted;
   if (vr) {
     r.verified = true, r.max_rel_err = vr->max_rel_err, r.p999_rel_err = vr->p999_rel_err;
     r.mean_rel_err = vr->mean_rel_err, r.violations = vr->violations;
@@ -91,6 +93,9 @@ void write_stats_json(const run_record& r, const std::string& path) {
                    {"after_ms", f.after_ms}};
     if (r.ranks > 0) fj["rank"] = f.rank;
     if (f.ahead_ms > 0) fj["ahead_ms"] = f.ahead_ms, fj["ahead_wait_ms"] = f.ahead_wait_ms;
+    if (f.mirror_filled + f.mirror_looked_up + f.mirror_traced + f.mirror_cells > 0)
+      fj["mirror"] = {{"filled", f.mirror_filled}, {"looked_up", f.mirror_looked_up}, {"traced", f.mirror_traced},
+                      {"cells", f.mirror_cells}, {"trusted", f.mirror_trusted}};
     if (f.verified)
       fj["verify"] = {{"max_rel_err", f.max_rel_err}, {"violations", f.violations}, {"p999_rel_err", f.p999_rel_err},
                      {"mean_rel_err", f.mean_rel_err}};

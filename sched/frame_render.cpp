@@ -54,6 +54,8 @@ struct alignas(64) tile_totals {
   std::uint64_t ticks_build = 0;     // within interp and base
   std::vector<cell_ref> cells;  // full: the cells this tile's pixels used, for the next frame
   std::vector<gate_entry> gate;  // interp and full: per object, what its cells saved and cost
+  std::vector<cell_ref> mirror_cells;  // full: the mirror cells this tile's pixels used
+  std::uint64_t mirror_filled = 0, mirror_looked_up = 0, mirror_traced = 0;
 };
 
 // Last frame's cells seen from the new eye: which pixels each one owns.
@@ -70,10 +72,13 @@ void note_cell(std::vector<cell_ref>& cells, const cell_ref& c) {
 // Interp and full modes. Full: a pixel owned by one of last frame's cells is span-filled
 // from it; otherwise, and when its bound fails, it takes the interpolate path. Runs of a
 // plain cell's pixels are filled in screen space (span_fill.h), the rest pixel by pixel.
-void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int lf_depth, const tile& t, image& out,
-                       image* reasons, tile_totals& tot) {
+void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, const mirror_frame* mf, int lf_depth,
+                       const tile& t, image& out, image* reasons, tile_totals& tot) {
   trace_state st;
   interp_scratch scratch;
+  mirror_use mirror;
+  mirror.m = mf;
+  mirror_use* mu = mf ? &mirror : nullptr;
   const camera& cam = *f.cam;
   const int segment = f.p.span_segment;
   std::vector<glm::vec3> span_L(rp && segment > 0 ? size_t(cam.width) : 0);
@@ -130,12 +135,12 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
     std::int32_t own = rp ? rp->owner[size_t(y) * size_t(cam.width) + size_t(x)] : -1;
     if (own >= 0 && f.off && f.off[size_t(scene_prim_of(*f.w, (*rp->cells)[size_t(own)].prim))]) own = -1;
     if (own >= 0 && fill_pixel(*f.w, cam, (*rp->cells)[size_t(own)], (*rp->trust)[size_t(own)], x, y, f.p.eps, st,
-                               r.L)) {
+                               r.L, mu)) {
       r.path = pixel_path::fast, r.reason = pixel_reason::reprojected, r.cell = (*rp->cells)[size_t(own)];
     } else if (lf_depth >= 0) {
       r = shade_pixel_lightfield(f, lf_depth, x, y, st, scratch);
     } else {
-      r = shade_pixel_interp(f, x, y, st, scratch);
+      r = shade_pixel_interp(f, x, y, st, scratch, mu);
     }
     out.at(x, y) = r.L;
     if (reasons) reasons->at(x, y) = reason_colour(r.reason);
@@ -180,6 +185,11 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, int 
     }
   }
   if (run.prim >= 0) tot.gate.push_back(run);
+  if (mu) {
+    keep_first_uses(mirror.cells);
+    tot.mirror_cells = std::move(mirror.cells);
+    tot.mirror_filled = mirror.filled, tot.mirror_looked_up = mirror.looked_up, tot.mirror_traced = mirror.traced;
+  }
   tot.rays = st.counts;
   tot.ticks_build = st.build_ticks;
 }
@@ -271,6 +281,46 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
         std::uint64_t(std::count_if(trusted.begin(), trusted.end(), [](const cell_trust& t) { return t.ok; }));
     out.reproject_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
   }
+  // Full: the planar reflector's mirrored eye, and last frame's mirror cells seen from it.
+  mirror_frame mf;
+  std::vector<std::int32_t, no_init_allocator<std::int32_t>> mirror_owner;
+  std::vector<cell_trust> mirror_trusted;
+  std::vector<std::uint8_t> mirror_small;
+  bool mirrored = false;
+  if (p.mode == render_mode::full && f.p.mirror && f.p.eps > 0) {
+    const auto r0 = std::chrono::steady_clock::now();
+    mirror_state& ms = p.reproj->mirror;
+    mf.view = choose_mirror(w, cam);
+    if (mf.view.reflector != ms.reflector) {  // another plane's cells serve nothing here
+      ms.reflector = mf.view.reflector;
+      ms.cells.clear();
+      ms.trees = ms.reflector >= 0 ? std::make_unique<linetree_set>(w.prim_bounds, p.trees->memory_budget(),
+                                                                    size_t(cam.width) * size_t(cam.height))
+                                   : nullptr;
+    }
+    if (ms.reflector >= 0) {
+      mirrored = true;
+      ms.trees->next_frame();
+      mirror_small.resize(w.prim_bounds.size());
+      pool.run([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, mirror_small.size(), 1024),
+                          [&](const tbb::blocked_range<size_t>& r) {
+                            small_primitives(w, mf.view.cam, f.p.min_prim_pixels, r.begin(), r.end(),
+                                             mirror_small.data());
+                          });
+      });
+      mf.f = f;
+      mf.f.trees = ms.trees.get(), mf.f.cam = &mf.view.cam, mf.f.small = mirror_small.data(), mf.f.off = nullptr;
+      mf.f.p.eps = mirror_eps(f.p.eps, mf.view.ks), mf.f.p.build_depth = 2, mf.f.p.object_gate = false;
+      mirror_owner.resize(size_t(cam.width) * size_t(cam.height));
+      reproject_cells(&pool, w, mf.view.cam, ms.cells, 0, nullptr, mirror_trusted, mirror_owner.data(), &mf.view);
+      mf.cells = &ms.cells, mf.owner = mirror_owner.data(), mf.trust = &mirror_trusted;
+      out.mirror_cells = ms.cells.size();
+      out.mirror_trusted = std::uint64_t(
+          std::count_if(mirror_trusted.begin(), mirror_trusted.end(), [](const cell_trust& t) { return t.ok; }));
+    }
+    out.reproject_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
+  }
   // Upsample: the reduced frame first, traced over its own tiles.
   image low;
   const camera low_cam = p.mode == render_mode::upsample ? reduced_camera(cam, std::max(1, p.upsample)) : camera{};
@@ -340,7 +390,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       case render_mode::interp:
       case render_mode::full:
       case render_mode::lightfield:
-        shade_tile_interp(f, p.mode == render_mode::full ? &rp : nullptr,
+        shade_tile_interp(f, p.mode == render_mode::full ? &rp : nullptr, mirrored ? &mf : nullptr,
                           p.mode == render_mode::lightfield ? p.lf_depth : -1, tiles[i], out.img,
                           p.reasons ? &out.reasons : nullptr, totals[i]);
         keep_first_uses(totals[i].cells);  // here, in parallel: the serial merge below then sees far fewer
@@ -378,6 +428,19 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     keep_first_uses(next);
     for (const cell_ref& c : next) mark_used(*c.node, p.trees->frame());  // carried: never evicted now
     p.reproj->cells = std::move(next);
+    if (mirrored) {
+      mirror_state& ms = p.reproj->mirror;
+      std::vector<cell_ref> mnext;
+      for (const tile_totals& t : totals) {
+        mnext.insert(mnext.end(), t.mirror_cells.begin(), t.mirror_cells.end());
+        out.mirror_filled += t.mirror_filled, out.mirror_looked_up += t.mirror_looked_up;
+        out.mirror_traced += t.mirror_traced;
+      }
+      keep_first_uses(mnext);
+      for (const cell_ref& c : mnext) mark_used(*c.node, ms.trees->frame());
+      ms.cells = std::move(mnext);
+      ms.trees->evict();
+    }
   }
   if (gated) {
     std::vector<gate_entry> entries;

@@ -50,8 +50,17 @@ struct path_times {
 
 // What full mode carries from one frame to the next besides the linetrees: the cells that
 // gave pixels their radiance. The reuse baseline carries last frame's pixels instead.
+// Full: the mirror cells of the frame's planar reflector (engine/reproject/mirror.h),
+// in linetrees of their own, and the cells last frame's reflections used.
+struct mirror_state {
+  int reflector = -1;
+  std::unique_ptr<linetree_set> trees;
+  std::vector<cell_ref> cells;
+};
+
 struct reprojection_state {
   std::vector<cell_ref> cells;
+  mirror_state mirror;
   reuse_state pixels;
   // `--reproject osmesa`: the OSMesa context that draws the cells' regions (opened by the
   // caller, which reports a failure to load OSMesa; null: the exact per-pixel method).
@@ -105,6 +114,10 @@ struct frame_result {
   // Interp and full: objects the gate will trace with no linetree in the next frame
   // (engine/interp/object_gate.h).
   std::uint64_t objects_off = 0;
+  // Full: the reflector's deferred reflections by source (engine/reproject/mirror.h): a
+  // reprojected mirror cell, a mirror cell looked up after a BVH walk, traced.
+  std::uint64_t mirror_filled = 0, mirror_looked_up = 0, mirror_traced = 0;
+  std::uint64_t mirror_cells = 0, mirror_trusted = 0;
   path_times path_ms;
   // Where the wall time went: the tile phase (with its threads' waits) and what follows it
   // (full: merging the cells used, eviction).

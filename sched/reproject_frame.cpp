@@ -25,7 +25,8 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 void reproject_cells(workers* pool, const world& w, const camera& cam, const std::vector<cell_ref>& cells,
-                     std::size_t first, face_raster* raster, std::vector<cell_trust>& trusted, std::int32_t* owner) {
+                     std::size_t first, face_raster* raster, std::vector<cell_trust>& trusted, std::int32_t* owner,
+                     const mirror_view* mirror) {
   trusted.resize(cells.size());
   // Every band of rows scans the whole cell list, so bands are few: about four per thread,
   // not the frame's tiles (one-row tiles at 16 threads made 480 scans of 5,000 cells). A
@@ -42,7 +43,7 @@ void reproject_cells(workers* pool, const world& w, const camera& cam, const std
   auto work = [&] {
     each(pool, cells.size() - first, [&](std::size_t k) {
       const std::size_t i = first + k;
-      trusted[i] = trust_from(w, cells[i], cam.origin);
+      trusted[i] = mirror ? trust_from_mirror(w, cells[i], *mirror) : trust_from(w, cells[i], cam.origin);
       if (trusted[i].ok && !draw) rects[i] = raster_rect(cam, cell_screen_box(cam, cells[i].lt->fp, *cells[i].node));
     });
     if (draw)

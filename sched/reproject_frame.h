@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "reproject/face_raster.h"
+#include "reproject/mirror.h"
 #include "reproject/reproject.h"
 #include "tiles.h"
 #include "workers.h"
@@ -26,8 +27,10 @@ namespace epsray {
 // (first == 0: of every pixel; owner is rewritten). With a raster and first == 0, OSMesa
 // draws the ownership in the calling thread; otherwise the exact per-pixel method. With a
 // pool the work runs on its workers, without one in the calling thread.
+// With a mirror, cam is its mirrored eye and the cells are trusted by trust_from_mirror.
 void reproject_cells(workers* pool, const world& w, const camera& cam, const std::vector<cell_ref>& cells,
-                     std::size_t first, face_raster* raster, std::vector<cell_trust>& trusted, std::int32_t* owner);
+                     std::size_t first, face_raster* raster, std::vector<cell_trust>& trusted, std::int32_t* owner,
+                     const mirror_view* mirror = nullptr);
 
 // A frame's reprojection prepared ahead of it (reprojection_state::ahead).
 struct reprojection_ahead {

@@ -6,6 +6,7 @@
 
 #include "interp/cell_screen.h"
 #include "predicate/error_predicate.h"
+#include "reproject/mirror.h"
 #include "sched/cycle_clock.h"  // cycle_now is inline: no link to the scheduler library
 #include "shade/surface.h"
 #include "shade/texture.h"
@@ -59,7 +60,7 @@ bool strictly_inside(const lt_node& n, const float x[4]) {
 // published there after tracing; then the topology test and the predicate.
 std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const facepair& fp, const lt_node& n,
                                                bool terminal, bool defer, sample_cache& cache, trace_state& st,
-                                               interp_scratch& scratch, bool predicate) {
+                                               interp_scratch& scratch, bool predicate, int depth) {
   auto ip = std::make_unique<interpolant>();
   const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
   // Its texture terms are allocated only if the cell is kept: most builds fail.
@@ -118,6 +119,7 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     }
   }
   ray_tree* saved_tree = st.tree;
+  st.root_depth = depth;
   for (int k = 0; k < 16; ++k) {
     if (known[k]) {
       trees[k] = samples[k].tree;
@@ -129,7 +131,7 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     line_sample& s = samples[k];
     if (textured) st.root_tex_factor = &s.tex, st.root_uv = &s.uv;
     st.root_ndl = s.ndl, st.root_spec = s.spec, st.root_rays = s.rays;
-    s.rad = shade_hit(w, lines[k], hit{ts[k], prim}, 1, st);
+    s.rad = shade_hit(w, lines[k], hit{ts[k], prim}, depth, st);
     st.root_tex_factor = nullptr, st.root_uv = nullptr, st.root_ndl = nullptr, st.root_spec = nullptr;
     st.root_rays = nullptr;
     if (textured) s.rad -= s.tex * sample_texture(w.sc.textures[size_t(m.texture)], s.uv);
@@ -138,12 +140,12 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
     if (s.tree) cache.lines.insert(keys[k], s);  // uncacheable trees stay private to this build
     trees[k] = s.tree ? s.tree : &tree;
     if (terminal && differs(trees[k])) {
-      st.tree = saved_tree;
+      st.tree = saved_tree, st.root_depth = 1;
       ip->reason = cell_reason::discontinuity, ip->split = axes_by_extent(n);
       return ip;
     }
   }
-  st.tree = saved_tree;
+  st.tree = saved_tree, st.root_depth = 1;
   auto corners_to_ip = [&] {
     ip->rad_min = glm::vec3(INFINITY);
     for (int k = 0; k < 16; ++k) {
@@ -266,7 +268,7 @@ bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye) {
 }
 
 bool interpolate_line(const world& w, int prim, const lt_node& n, const interpolant& ip, const float x4[4], float eps,
-                      const ray& r, float t_hit, trace_state& st, glm::vec3& L) {
+                      const ray& r, float t_hit, trace_state& st, glm::vec3& L, mirror_use* mu, int px, int py) {
   float t[4];
   cell_fractions(n, x4, t);
   L = quadrilinear(ip.rad, t);
@@ -287,9 +289,26 @@ bool interpolate_line(const world& w, int prim, const lt_node& n, const interpol
   // Deferred terms are the reference's own, traced per pixel; they add error only where the
   // pixel's allowance let their shading skip a shadow ray, and say how much.
   if (deferring) {
+    std::uint32_t rays = ip.deferred_rays;
+    // The reflector's deferred reflection through the mirrored eye (mirror.h), after the
+    // other terms, when its error fits what they leave.
+    const bool mirrored = mu && (rays & deferred_reflect) && prim == mu->m->view.reflector;
+    if (mirrored) rays &= ~std::uint32_t(deferred_reflect);
     error_allowance allow{L, E, eps};
-    L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, ip.deferred_rays, &ip.shadow, st, &allow);
+    L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, rays, &ip.shadow, st, &allow);
     E += allow.spent;
+    if (mirrored) {
+      glm::vec3 Lm{0}, Em{0};
+      bool noted = false;
+      if (mirror_term(*mu, w, px, py, sf, r, L, E, eps, st, Lm, Em, &noted) || within(L + Lm, E + Em, eps)) {
+        L += Lm, E += Em;
+      } else {  // too coarse for this pixel: traced after all
+        if (noted) mu->cells.pop_back();
+        error_allowance again{L, E, eps};
+        L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, 0, deferred_reflect, nullptr, st, &again);
+        E += again.spent;
+      }
+    }
   }
   return within(L, E, eps);
 }
@@ -338,20 +357,13 @@ pixel_line find_pixel_line(const interp_frame& f, int x, int y, trace_state& st,
   return pl;
 }
 
-pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state& st, interp_scratch& scratch) {
+lt_node* find_cell(const interp_frame& f, linetree& lt, int prim, const float x4[4], trace_state& st,
+                   interp_scratch& scratch, const interpolant*& ip) {
   const world& w = *f.w;
   const camera& cam = *f.cam;
-  pixel_result out;
-  const pixel_line pl = find_pixel_line(f, x, y, st, out);
-  if (!pl.lt) return out;
-  out.gate_prim = pl.h.prim;
-  linetree& lt = *pl.lt;
-  const ray& r = pl.r;
-  const hit& h = pl.h;
-  const float* x4 = pl.x4;
   lt_node* node = &lt.root;
   if (scratch.hint_tree == &lt && strictly_inside(*scratch.hint, x4)) node = scratch.hint;
-  const interpolant* ip = nullptr;
+  ip = nullptr;
   for (;;) {
     if (lt_node* kids = node->kids.load(std::memory_order_acquire)) {
       node = child_at(*node, kids, x4);
@@ -380,7 +392,8 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
       const std::uint64_t b0 = cycle_now(), r0 = st.counts.total();
       bool won = false;
       ip = publish(*node,
-                   build_interpolant(w, pl.prim, lt.fp, *node, terminal, defer, f.trees->samples(), st, scratch, true),
+                   build_interpolant(w, prim, lt.fp, *node, terminal, defer, f.trees->samples(), st, scratch, true,
+                                     f.p.build_depth),
                    f.trees->node_bytes(), &won);
       st.build_ticks += cycle_now() - b0;
       st.build_rays += st.counts.total() - r0;
@@ -401,9 +414,25 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
     break;
   }
   mark_used(*node, f.trees->frame());
+  return node;
+}
+
+pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state& st, interp_scratch& scratch,
+                                mirror_use* mu) {
+  const world& w = *f.w;
+  pixel_result out;
+  const pixel_line pl = find_pixel_line(f, x, y, st, out);
+  if (!pl.lt) return out;
+  out.gate_prim = pl.h.prim;
+  linetree& lt = *pl.lt;
+  const ray& r = pl.r;
+  const hit& h = pl.h;
+  const float* x4 = pl.x4;
+  const interpolant* ip = nullptr;
+  lt_node* node = find_cell(f, lt, pl.prim, x4, st, scratch, ip);
   if (ip->reason == cell_reason::valid) {
     glm::vec3 La;
-    if (interpolate_line(w, pl.prim, *node, *ip, x4, f.p.eps, r, h.t, st, La)) {
+    if (interpolate_line(w, pl.prim, *node, *ip, x4, f.p.eps, r, h.t, st, La, mu, x, y)) {
       out.L = La;
       out.path = pixel_path::interp;
       out.reason = pixel_reason::interpolated;

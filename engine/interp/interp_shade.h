@@ -13,6 +13,8 @@
 
 namespace epsray {
 
+struct mirror_use;  // engine/reproject/mirror.h
+
 struct interp_params {
   float eps = 0.05f;
   float min_cell_pixels = 16;  // no subdivision into children covering fewer pixels
@@ -40,6 +42,14 @@ struct interp_params {
   // Full: runs of a plain cell's pixels are span-filled in screen space, in segments of at
   // most this many pixels (engine/reproject/span_fill.h); 0: every pixel evaluates its cell.
   int span_segment = 32;
+  // The depth of the rays whose lines the trees hold: 1, eye lines; 2, a planar reflector's
+  // reflected lines (engine/reproject/mirror.h), whose cells defer nothing.
+  int build_depth = 1;
+  // Full: a planar reflector's deferred reflections through the mirrored eye
+  // (engine/reproject/mirror.h); false: traced per pixel. Off by default: on the art-room
+  // walk it serves 64% of the floor's deferred reflections from reprojected cells with zero
+  // pixels over epsilon, but took 1.014 of the time at 800x600 (perf/pair.py, one thread).
+  bool mirror = false;
 };
 
 // How a pixel got its radiance, and why an interpolant was not used.
@@ -100,7 +110,14 @@ struct pixel_result {
   int gate_prim = -1;
 };
 
-pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state& st, interp_scratch& scratch);
+pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state& st, interp_scratch& scratch,
+                                mirror_use* mu = nullptr);
+
+// The leaf that line x4 of prim's tree lt ends in under the frame's cost model (f.cam's
+// screen), building interpolants and splitting cells on the way; ip is its interpolant
+// (never null). Marks the leaf used in this frame.
+lt_node* find_cell(const interp_frame& f, linetree& lt, int prim, const float x4[4], trace_state& st,
+                   interp_scratch& scratch, const interpolant*& ip);
 
 // The first step of every pixel that may be interpolated: the visibility ray, and the line
 // it lies on in its object's linetree. lt is null when the pixel needs no tree: `out`
@@ -127,8 +144,11 @@ bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye);
 // The interpolated radiance of the line x4 of cell n, when the bound meets epsilon for it.
 // r is the pixel's eye ray, t_hit where it meets prim: the deferred lights' shadow rays
 // leave from there.
+// With mu (full mode, pixel (px, py)): a deferred reflection off the frame's planar
+// reflector comes from a mirror cell where one serves (engine/reproject/mirror.h).
 bool interpolate_line(const world& w, int prim, const lt_node& n, const interpolant& ip, const float x4[4], float eps,
-                      const ray& r, float t_hit, trace_state& st, glm::vec3& L);
+                      const ray& r, float t_hit, trace_state& st, glm::vec3& L, mirror_use* mu = nullptr,
+                      int px = 0, int py = 0);
 
 // The interpolant of cell n of prim's facepair fp: its 16 extremal lines traced against the
 // object alone (through the shared sample cache), then the topology test and the error
@@ -139,7 +159,8 @@ bool interpolate_line(const world& w, int prim, const lt_node& n, const interpol
 // bound; only corners that miss the object still fail the cell.
 std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const facepair& fp, const lt_node& n,
                                                bool terminal, bool defer, sample_cache& cache,
-                                               trace_state& st, interp_scratch& scratch, bool predicate);
+                                               trace_state& st, interp_scratch& scratch, bool predicate,
+                                               int depth = 1);
 
 // The paper's colours for the error-coded image.
 glm::vec3 reason_colour(pixel_reason r);

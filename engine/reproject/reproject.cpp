@@ -47,15 +47,7 @@ cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye) {
   // A pixel's point, computed in floats from its own eye ray, may lie some ulps outside the
   // box the predicate proved for the cell's lines.
   const bounds from{eye, eye}, to = with_rounding_margin(c.ip->hit_box, eye);
-  const shaft s = make_shaft(from, to);
-  const bool crowded = for_each_shape_in_shaft(w, s, from, to, [&](int id) {
-    if (id == self || std::find(out.candidates, out.candidates + out.count, id) != out.candidates + out.count)
-      return false;
-    if (out.count == cell_trust::max_candidates) return true;
-    out.candidates[out.count++] = id;
-    return false;
-  });
-  out.ok = !crowded;
+  list_candidates(w, from, to, [&](int id) { return id == self; }, out);
   return out;
 }
 
@@ -192,7 +184,7 @@ void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std
 }
 
 bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell_trust& trust, int x, int y,
-                float eps, trace_state& st, glm::vec3& L) {
+                float eps, trace_state& st, glm::vec3& L, mirror_use* mu) {
   float x4[4];
   const glm::vec3 d = eye_direction(cam, float(x), float(y));
   if (!line_in_cell(cam, c, d, x4)) return false;
@@ -213,7 +205,7 @@ bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell
     float tc;
     if (hit_shape(w.shapes[size_t(trust.candidates[i])], w.polys, r, t * (1 + 1e-5f), tc)) return false;
   }
-  return interpolate_line(w, c.prim, *c.node, *c.ip, x4, eps, r, t, st, L);
+  return interpolate_line(w, c.prim, *c.node, *c.ip, x4, eps, r, t, st, L, mu, x, y);
 }
 
 void keep_first_uses(std::vector<cell_ref>& cells) {

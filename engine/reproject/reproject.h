@@ -12,12 +12,14 @@
 // Cells keep a deterministic order, and the first containing trusted cell owns the pixel. (`--reproject
 // osmesa` draws the same rule instead: face_raster.h.)
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
 #include "accel/world.h"
 #include "interp/cell_screen.h"
 #include "interp/interp_shade.h"
+#include "predicate/shaft_shape.h"
 
 namespace epsray {
 
@@ -41,6 +43,21 @@ struct cell_trust {
 };
 cell_trust trust_from(const world& w, const cell_ref& c, glm::vec3 eye);
 
+// Sets out.ok and lists in out.candidates the primitives, but those `ignore(id)` names,
+// that meet the shaft from `from` to `to`; out.ok is false when more than max_candidates do.
+template <class Ignore>
+void list_candidates(const world& w, const bounds& from, const bounds& to, Ignore&& ignore, cell_trust& out) {
+  const shaft s = make_shaft(from, to);
+  const bool crowded = for_each_shape_in_shaft(w, s, from, to, [&](int id) {
+    if (ignore(id) || std::find(out.candidates, out.candidates + out.count, id) != out.candidates + out.count)
+      return false;
+    if (out.count == cell_trust::max_candidates) return true;
+    out.candidates[out.count++] = id;
+    return false;
+  });
+  out.ok = !crowded;
+}
+
 // The line of pixel (x, y) in the cell's facepair coordinates, as the interpolate path
 // computes it; true when the pixel's ray runs in the facepair's direction and its line
 // lies inside the cell.
@@ -59,7 +76,7 @@ void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std
 // pixel's point or the bound does not meet epsilon for its line (the pixel then takes the
 // interpolate path).
 bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell_trust& trust, int x, int y,
-                float eps, trace_state& st, glm::vec3& L);
+                float eps, trace_state& st, glm::vec3& L, mirror_use* mu = nullptr);
 
 // Keeps each cell's first occurrence, in order. A frame's tiles list the cells their pixels
 // used in raster order, so their lists, deduplicated each and then together in tile order,

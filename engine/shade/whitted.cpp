@@ -149,7 +149,7 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
   const vec3 nf = entering ? sf.ns : -sf.ns;
   const vec3 v = -r.d;
   vec3 colour = m.color;
-  const bool split = depth == 1 && m.texture >= 0 && st.root_tex_factor;
+  const bool split = depth == st.root_depth && m.texture >= 0 && st.root_tex_factor;
   vec3 tex_factor{0};
   if (m.texture >= 0) {
     vec2 uv = surface_uv(w, h.prim, sf.p);
@@ -168,7 +168,7 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
   vec3 L = w.ambient * kd_c;
   const vec3 above = sf.p + w.delta * nf;
   const size_t nl = w.light_pos.size();
-  const bool record = depth == 1 && st.root_ndl;
+  const bool record = depth == st.root_depth && st.root_ndl;
   const bool may_skip = st.error_left && !tree && !record;
   for (size_t j = 0; j < nl; ++j) {
     if (may_skip && skip_shadow_ray(w, m, kd_c, sf.p, nf, v, j, st, L)) continue;
@@ -185,11 +185,11 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
   }
   if (split) *st.root_tex_factor = tex_factor;
 
-  if (depth == 1 && st.root_rays) st.root_rays[0] = st.root_rays[1] = vec3{0};
+  if (depth == st.root_depth && st.root_rays) st.root_rays[0] = st.root_rays[1] = vec3{0};
   if (depth < max_depth && m.ks > 0) {
     if (tree) tree->nodes[size_t(node)].reflect = std::int16_t(tree->nodes.size());
     const vec3 Lr = reflected_term(w, m, r, sf.p, nf, depth, st);
-    if (depth == 1 && st.root_rays) st.root_rays[0] = Lr;
+    if (depth == st.root_depth && st.root_rays) st.root_rays[0] = Lr;
     L += Lr;
   }
   if (depth < max_depth && m.t > 0) {
@@ -199,7 +199,7 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
       n.tir = total_internal(m, r, nf, entering);
     }
     const vec3 Lt = transmitted_term(w, m, r, sf.p, nf, entering, depth, st);
-    if (depth == 1 && st.root_rays) st.root_rays[1] = Lt;
+    if (depth == st.root_depth && st.root_rays) st.root_rays[1] = Lt;
     L += Lt;
   }
   return L;
@@ -241,13 +241,11 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& s
       if (lt.status == light_lit) L += lit_term(w, m, kd_c, j, lt.ndl, lt.spec);
     }
   }
-  // The pixel passes when E <= eps (L - E) (within, engine/interp); its L is at least the
-  // terms summed so far, so error s may be added when (1 + eps)(E + s) <= eps L: spend
-  // most of that, keeping a margin for within's rounding allowance.
+  // Its L is at least the terms summed so far (error_room).
   vec3 left{0};
   if (allow && !st.tree && (rays & (deferred_reflect | deferred_refract))) {
     const vec3 known = allow->known + L;
-    left = glm::max(vec3{0}, 0.9f * (allow->eps * known / (1 + allow->eps) - allow->err) - 1e-5f * known - 1e-6f);
+    left = error_room(known, allow->err, allow->eps);
     st.error_left = &left, st.path_weight = 1;
   }
   const vec3 offered = left;

@@ -44,6 +44,9 @@ struct trace_state {
   // (A*Kd*C + sum of lit Ij*Kd*C*dot(Nf, Lj), texture excluded) and the root's uv, so an
   // interpolant can keep texture lookups out of the interpolated terms.
   vec3* root_tex_factor = nullptr;
+  // The depth of the ray whose shading the root_ pointers record: 1, an eye line's; 2, a
+  // reflected line's (cells built for a planar reflector's reflections, engine/reproject/mirror.h).
+  int root_depth = 1;
   vec2* root_uv = nullptr;
   // When set, shading at depth 1 stores per light j < max_deferred_lights its diffuse
   // cosine and specular power where the light reaches the point (0 elsewhere): an
@@ -71,6 +74,14 @@ struct error_allowance {
   float eps = 0;
   vec3 spent{0};
 };
+
+// The error a pixel's secondary rays may still add, per channel: its radiance so far is at
+// least `known` with proven error `err`, and it passes when E <= eps (L - E) (within,
+// engine/interp), so error s may be added while (1 + eps)(err + s) <= eps known; most of
+// that, with a margin for within's rounding allowance.
+inline vec3 error_room(vec3 known, vec3 err, float eps) {
+  return glm::max(vec3{0}, 0.9f * (eps * known / (1 + eps) - err) - 1e-5f * known - 1e-6f);
+}
 
 // The primitives that may block deferred lights' shadow rays, for a cell whose shadow
 // shafts hold few of them: each listed light's per-pixel shadow ray is tested against
