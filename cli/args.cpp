@@ -168,7 +168,7 @@ const std::vector<flag_spec>& flags() {
        "primitives whose box covers fewer pixels are traced (default " + num(ip.min_prim_pixels) + ")",
        [](cli_options& o, arg f, arg v) { o.min_prim_pixels = float(to_number(f, v, 0, 1e9)); }},
       {"--object-gate", "on|off", ALL, false,
-       std::string("trace, with no linetree, objects whose cells cost more than they saved in the last "
+       std::string("full: trace, with no linetree, objects whose cells cost more than they saved in the last "
                    "frame by the counts of rays and pixels (default ") + (ip.object_gate ? "on" : "off") + ")",
        [](cli_options& o, arg, arg v) {
          if (v != "on" && v != "off") bad("bad --object-gate '" + v + "': expected on or off");

@@ -25,32 +25,35 @@ TEST(ObjectGate, GainIsSavedRaysLessWhatThePathsAndBuildsCost) {
 TEST(ObjectGate, LosingObjectIsTracedThenTriedAgainLaterEachTime) {
   object_gate g;
   g.resize(3);
+  const float px[3] = {100, 100, 100};  // each object's box on screen, in pixels
   gate_entry losing{1, {}}, paying{2, {}};
   losing.t.fast = 100, losing.t.saved = 300, losing.t.own = 290;  // saves 10 rays, costs 60
   paying.t.span = 100, paying.t.saved = 400;
-  g.update({losing, paying}, false);
-  EXPECT_FALSE(g.off(0));
-  EXPECT_TRUE(g.off(1));
-  EXPECT_FALSE(g.off(2));
+  g.update({losing, paying}, false, px);
+  EXPECT_FALSE(g.off(0, 100));
+  EXPECT_TRUE(g.off(1, 100));
+  EXPECT_FALSE(g.off(2, 100));
+  EXPECT_TRUE(g.off(1, 400)) << "four times larger on screen: still off";
+  EXPECT_FALSE(g.off(1, 401)) << "more: tried again at once";
   EXPECT_EQ(g.objects_off(), 1u);
   // Off for 8 frames, in which nothing of it is counted; then tried again.
   for (int k = 0; k < 7; ++k) {
-    g.update({paying}, true);
-    EXPECT_TRUE(g.off(1)) << k;
+    g.update({paying}, true, px);
+    EXPECT_TRUE(g.off(1, 100)) << k;
   }
-  g.update({paying}, true);
-  EXPECT_FALSE(g.off(1));
+  g.update({paying}, true, px);
+  EXPECT_FALSE(g.off(1, 100));
   // Losing again: off for 16 frames this time.
-  g.update({losing}, true);
+  g.update({losing}, true, px);
   int frames_off = 0;
-  while (g.off(1)) g.update({}, true), ++frames_off;
+  while (g.off(1, 100)) g.update({}, true, px), ++frames_off;
   EXPECT_EQ(frames_off, 16);
   // The entries of one object are summed before the decision: two halves that pay together.
   gate_entry half_a{0, {}}, half_b{0, {}};
   half_a.t.fast = 10, half_a.t.saved = 40, half_a.t.own = 40;  // alone: -6
   half_b.t.span = 100, half_b.t.saved = 100;                    // +90
-  g.update({half_a, half_b}, false);
-  EXPECT_FALSE(g.off(0));
+  g.update({half_a, half_b}, false, px);
+  EXPECT_FALSE(g.off(0, 100));
 }
 
 // A matte wall that its cells serve well, and before it a large glass sphere, whose cells

@@ -35,8 +35,8 @@ struct interp_params {
   // 16 corner lines and the bound of each cell cost more than a few dozen pixels save,
   // and an object that small is mostly silhouette (an SPD scene's thousand triangles).
   float min_prim_pixels = 1024;
-  // Objects whose cells cost more than they save, by the counts of the last frame, are
-  // traced for the next frames (object_gate.h); false: every object keeps its linetrees.
+  // Full: objects whose cells cost more than they save, by the counts of the last frame,
+  // are traced for the next frames (object_gate.h); false: every object keeps its linetrees.
   bool object_gate = true;
   bool four_way = true;        // halve only the axes the failure points at (section 8.6)
   // Full: runs of a plain cell's pixels are span-filled in screen space, in segments of at

@@ -26,11 +26,12 @@ double gate_gain(const gate_tally& t, bool moving, const gate_weights& wt) {
 void object_gate::resize(std::size_t prims) {
   off_until_.assign(prims, 0);
   strikes_.assign(prims, 0);
+  off_pixels_.assign(prims, 0);
   sum_.assign(prims, gate_tally{});
   touched_.clear();
 }
 
-void object_gate::update(const std::vector<gate_entry>& tallies, bool moving) {
+void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels) {
   if (!enabled()) return;
   for (const gate_entry& e : tallies) {
     if (e.prim < 0 || std::size_t(e.prim) >= sum_.size()) continue;
@@ -46,6 +47,7 @@ void object_gate::update(const std::vector<gate_entry>& tallies, bool moving) {
       const std::uint8_t k = strikes_[std::size_t(p)];
       off_until_[std::size_t(p)] = frame_ + (8u << std::min<unsigned>(k, 3));
       strikes_[std::size_t(p)] = std::uint8_t(std::min(k + 1, 255));
+      off_pixels_[std::size_t(p)] = box_pixels ? box_pixels[p] : 0;
     }
     s = gate_tally{};
   }

@@ -47,17 +47,25 @@ class object_gate {
  public:
   void resize(std::size_t prims);
   bool enabled() const { return !off_until_.empty(); }
-  // Is prim traced, with no linetree, in the coming frame?
-  bool off(int prim) const { return frame_ < off_until_[std::size_t(prim)]; }
-  // After a frame: its tallies (any order; entries of one prim are summed), and whether the
-  // camera moved (builds count only then: a resting camera keeps its cells).
-  void update(const std::vector<gate_entry>& tallies, bool moving);
+  // Is prim traced, with no linetree, in the coming frame? `box_pixels`: what its box covers
+  // on this frame's screen (cell_screen.h). An object that has come 4 times larger on
+  // screen than when it was turned off (a teleport, a close-up) is tried again at once: a
+  // decision made for one view says little about a view its cells would serve far more of.
+  bool off(int prim, float box_pixels) const {
+    const std::size_t i = std::size_t(prim);
+    return frame_ < off_until_[i] && !(box_pixels > 4 * off_pixels_[i]);
+  }
+  // After a frame: its tallies (any order; entries of one prim are summed), whether the
+  // camera moved (builds count only then: a resting camera keeps its cells), and each
+  // object's box_pixels in that frame.
+  void update(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels);
   std::size_t objects_off() const;
 
  private:
   std::uint32_t frame_ = 0;
   std::vector<std::uint32_t> off_until_;  // the frame from which the object has linetrees again
   std::vector<std::uint8_t> strikes_;     // times turned off: the next retry waits longer
+  std::vector<float> off_pixels_;         // box_pixels when turned off
   std::vector<gate_tally> sum_;           // update's scratch
   std::vector<int> touched_;
 };
