@@ -27,10 +27,12 @@ TEST(ObjectGate, LosingObjectIsTracedThenTriedAgainLaterEachTime) {
   g.resize(3);
   const float px[3] = {100, 100, 100};  // each object's box on screen, in pixels
   gate_entry losing{1, {}}, paying{2, {}};
-  losing.t.fast = 100, losing.t.saved = 300, losing.t.own = 290;  // saves 10 rays, costs 60
+  losing.t.fast = 100, losing.t.saved = 300, losing.t.own = 295;  // saves 5 rays, costs 60: -0.55 a pixel
+  gate_entry close{0, {}};
+  close.t.fast = 100, close.t.saved = 300, close.t.own = 290;  // -0.5 a pixel: within the margin
   paying.t.span = 100, paying.t.saved = 400;
-  g.update({losing, paying}, false, px);
-  EXPECT_FALSE(g.off(0, 100));
+  g.update({losing, paying, close}, false, px);
+  EXPECT_FALSE(g.off(0, 100)) << "a loss within gate_margin keeps the cells";
   EXPECT_TRUE(g.off(1, 100));
   EXPECT_FALSE(g.off(2, 100));
   EXPECT_TRUE(g.off(1, 400)) << "four times larger on screen: still off";

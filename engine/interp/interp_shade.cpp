@@ -267,6 +267,31 @@ bool same_first_hit(const shape& s, const facepair& fp, glm::vec3 eye) {
   return false;
 }
 
+namespace {
+// interpolate_line's deferred terms when the reflection is the frame's reflector's: the other
+// terms first, then the reflected term through the mirrored eye (mirror.h) when its error
+// fits what they leave, else traced after all. Kept apart so the common path stays small.
+[[gnu::noinline]] bool deferred_with_mirror(const world& w, int prim, const interpolant& ip, const ray& r, float t_hit,
+                                           const surface& sf, glm::vec3 T, float eps, trace_state& st, mirror_use& mu,
+                                           int px, int py, glm::vec3& L, glm::vec3 E) {
+  const std::uint32_t rays = ip.deferred_rays & ~std::uint32_t(deferred_reflect);
+  error_allowance allow{L, E, eps};
+  L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, rays, &ip.shadow, st, &allow);
+  E += allow.spent;
+  glm::vec3 Lm{0}, Em{0};
+  bool noted = false;
+  if (mirror_term(mu, w, px, py, sf, r, L, E, eps, st, Lm, Em, &noted) || within(L + Lm, E + Em, eps)) {
+    L += Lm, E += Em;
+  } else {  // too coarse for this pixel: traced after all
+    if (noted) mu.cells.pop_back();
+    error_allowance again{L, E, eps};
+    L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, 0, deferred_reflect, nullptr, st, &again);
+    E += again.spent;
+  }
+  return within(L, E, eps);
+}
+}  // namespace
+
 bool interpolate_line(const world& w, int prim, const lt_node& n, const interpolant& ip, const float x4[4], float eps,
                       const ray& r, float t_hit, trace_state& st, glm::vec3& L, mirror_use* mu, int px, int py) {
   float t[4];
@@ -289,26 +314,11 @@ bool interpolate_line(const world& w, int prim, const lt_node& n, const interpol
   // Deferred terms are the reference's own, traced per pixel; they add error only where the
   // pixel's allowance let their shading skip a shadow ray, and say how much.
   if (deferring) {
-    std::uint32_t rays = ip.deferred_rays;
-    // The reflector's deferred reflection through the mirrored eye (mirror.h), after the
-    // other terms, when its error fits what they leave.
-    const bool mirrored = mu && (rays & deferred_reflect) && prim == mu->m->view.reflector;
-    if (mirrored) rays &= ~std::uint32_t(deferred_reflect);
+    if (mu && (ip.deferred_rays & deferred_reflect) && prim == mu->m->view.reflector)
+      return deferred_with_mirror(w, prim, ip, r, t_hit, sf, T, eps, st, *mu, px, py, L, E);
     error_allowance allow{L, E, eps};
-    L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, rays, &ip.shadow, st, &allow);
+    L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, ip.deferred_rays, &ip.shadow, st, &allow);
     E += allow.spent;
-    if (mirrored) {
-      glm::vec3 Lm{0}, Em{0};
-      bool noted = false;
-      if (mirror_term(*mu, w, px, py, sf, r, L, E, eps, st, Lm, Em, &noted) || within(L + Lm, E + Em, eps)) {
-        L += Lm, E += Em;
-      } else {  // too coarse for this pixel: traced after all
-        if (noted) mu->cells.pop_back();
-        error_allowance again{L, E, eps};
-        L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, 0, deferred_reflect, nullptr, st, &again);
-        E += again.spent;
-      }
-    }
   }
   return within(L, E, eps);
 }
@@ -357,8 +367,10 @@ pixel_line find_pixel_line(const interp_frame& f, int x, int y, trace_state& st,
   return pl;
 }
 
-lt_node* find_cell(const interp_frame& f, linetree& lt, int prim, const float x4[4], trace_state& st,
-                   interp_scratch& scratch, const interpolant*& ip) {
+namespace {
+// find_cell's body, inlined into the interpolate path (an eye pixel's descent is its hot loop).
+[[gnu::always_inline]] inline lt_node* descend(const interp_frame& f, linetree& lt, int prim, const float x4[4],
+                                               trace_state& st, interp_scratch& scratch, const interpolant*& ip) {
   const world& w = *f.w;
   const camera& cam = *f.cam;
   lt_node* node = &lt.root;
@@ -416,6 +428,12 @@ lt_node* find_cell(const interp_frame& f, linetree& lt, int prim, const float x4
   mark_used(*node, f.trees->frame());
   return node;
 }
+}  // namespace
+
+lt_node* find_cell(const interp_frame& f, linetree& lt, int prim, const float x4[4], trace_state& st,
+                   interp_scratch& scratch, const interpolant*& ip) {
+  return descend(f, lt, prim, x4, st, scratch, ip);
+}
 
 pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state& st, interp_scratch& scratch,
                                 mirror_use* mu) {
@@ -429,7 +447,7 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
   const hit& h = pl.h;
   const float* x4 = pl.x4;
   const interpolant* ip = nullptr;
-  lt_node* node = find_cell(f, lt, pl.prim, x4, st, scratch, ip);
+  lt_node* node = descend(f, lt, pl.prim, x4, st, scratch, ip);
   if (ip->reason == cell_reason::valid) {
     glm::vec3 La;
     if (interpolate_line(w, pl.prim, *node, *ip, x4, f.p.eps, r, h.t, st, La, mu, x, y)) {

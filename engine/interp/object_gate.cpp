@@ -43,7 +43,10 @@ void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, co
 
   for (int p : touched_) {
     gate_tally& s = sum_[std::size_t(p)];
-    if (gate_gain(s, moving) < 0) {
+    // Only a clear loss counts: half a ray a pixel (on the art-room walk at 800x600 any
+    // loss at all turned off objects whose cells paid later, 1.097 of the time).
+    const double pixels = double(s.fast + s.span + s.interp + s.traced);
+    if (gate_gain(s, moving) < -gate_margin * pixels) {
       const std::uint8_t k = strikes_[std::size_t(p)];
       off_until_[std::size_t(p)] = frame_ + (8u << std::min<unsigned>(k, 3));
       strikes_[std::size_t(p)] = std::uint8_t(std::min(k + 1, 255));

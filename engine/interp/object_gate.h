@@ -3,8 +3,8 @@
 // saves the rays the reference would cast for it (its cell's corner tree, tree_rays) less
 // the rays it still casts (deferred lights and secondary rays) and what its path costs
 // (a lookup, an interpolation, a span); a traced pixel that looked up a tree lost the
-// lookup; a moving camera's builds cost 16 corner lines each. An object whose cells saved
-// less than they cost is traced, with no linetree, for the next frames, and tried again
+// lookup; a moving camera's builds cost 16 corner lines each. An object whose cells lost
+// more than half a ray a pixel is traced, with no linetree, for the next frames, and tried again
 // after 8, 16, 32 and then every 64 frames. Everything counted is an integer that does not
 // depend on the threads (a build is counted by the call that published it, which exactly
 // one call does), so images do not depend on threads or timing.
@@ -42,6 +42,9 @@ struct gate_weights {
 
 // The gain of an object's cells over a frame, in rays (negative: they cost more than they saved).
 double gate_gain(const gate_tally& t, bool moving, const gate_weights& wt = {});
+
+// An object is turned off when its gain is below -gate_margin rays per pixel it covered.
+constexpr double gate_margin = 0.5;
 
 class object_gate {
  public:
