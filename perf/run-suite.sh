@@ -23,17 +23,20 @@ log() { printf '\n== %s (%s)\n' "$1" "$(date +%H:%M:%S)"; }
 if ((quick)); then
   acc=(--frames 8 --size 200x150 --eps 0.01,0.05,0.2 --upsample 2,4 --reuse-age 2,8 --lf-depth 4,5)
   walk=(--size 400x300) reproject=(--size 400x300 --reps 1) interp=(--size 400x300 --eps 0.05)
+  spd=(--size 320x240 --frames 8 --paths orbit)
   scale=(--frames 4 --size 320x240)
   memory=(--frames 100 --size 200x150 --budgets 16)
   tachyon=(-r 1) micro=(--benchmark_filter=whitted)
 else
-  acc=() walk=() reproject=() interp=() scale=() memory=() tachyon=(-r 3) micro=()
+  acc=() walk=() reproject=() interp=() spd=() scale=() memory=() tachyon=(-r 3) micro=()
 fi
 
 log "speed against accuracy, with the baselines"
 python3 perf/accuracy/bench.py --exe "$exe" --out "$R/accuracy.md" "${acc[@]}"
 log "walkthrough: Table 1 and Figure 12"
 python3 perf/walk/bench.py --exe "$exe" --out "$R/walk.md" "${walk[@]}"
+log "SPD walks: full against base"
+python3 perf/spd/bench.py --exe "$exe" --out "$R/spd" "${spd[@]}"
 log "reprojection methods and pipelining"
 python3 perf/reproject/bench.py --exe "$exe" --out "$R/reproject.md" "${reproject[@]}"
 log "still frames: interpolation"
@@ -58,7 +61,7 @@ build/perf/epsray_micro --benchmark_out="$R/micro.json" --benchmark_out_format=j
   echo '```'
   "$exe" info
   echo '```'
-  for part in accuracy walk reproject interp scaling memory tachyon; do
+  for part in accuracy walk spd reproject interp scaling memory tachyon; do
     [ -f "$R/$part.md" ] || continue
     echo
     sed 's/^# /## /' "$R/$part.md"

@@ -94,6 +94,7 @@ def main():
     with open(a.out + ".json", "w") as f:
         json.dump(summary, f, indent=1)
     with open(a.out + ".md", "w") as f:
+        f.write("# SPD walks: full mode against base\n\n")
         f.write("| scene | path | full / base speed-up | range |\n|---|---|---:|---|\n")
         for r in rows:
             f.write("| %s | %s | %.2fx | %.2f-%.2f |\n" % (r["scene"], r["path"], r["speedup"], r["smallest"],
