@@ -363,6 +363,8 @@ rflag("min_prim_pixels_negative", ["--min-prim-pixels", "-5"], "--min-prim-pixel
 rflag("reproject_unknown", ["--reproject", "raster"], "--reproject")
 rflag("span_negative", ["--span", "-1"], "--span")
 rflag("tile_order_unknown", ["--tile-order", "random"], "--tile-order")
+rflag("object_gate_maybe", ["--object-gate", "maybe"], "--object-gate")
+rflag("mirror_yes", ["--mirror", "yes"], "--mirror")
 rflag("unknown_option", ["--bogus"], "--bogus")
 rflag("frame_without_path", ["--frame", "0"], "--frame")
 rflag("frame_out_of_range", ["--path", "two.path", "--frame", "2"], "--frame")
