@@ -54,7 +54,7 @@ struct alignas(64) tile_totals {
   std::uint64_t ticks_span = 0;      // within fast
   std::uint64_t ticks_build = 0;     // within interp and base
   std::vector<cell_ref> cells;  // full: the cells this tile's pixels used, for the next frame
-  std::vector<gate_entry> gate;  // interp and full: per object, what its cells saved and cost
+  std::vector<gate_entry> gate;  // full: per object, what its cells saved and cost (object_gate.h)
   std::vector<cell_ref> mirror_cells;  // full: the mirror cells this tile's pixels used
   std::uint64_t mirror_filled = 0, mirror_looked_up = 0, mirror_traced = 0;
 };
