@@ -136,6 +136,7 @@ world make_world(scene s) {
   // The diagonal in double: a sky dome's (2e20 a side) squares past float's range.
   w.delta = w.box.empty() ? 0.0f : float(1e-4 * glm::length(glm::dvec3(w.box.hi) - glm::dvec3(w.box.lo)));
   w.sc = std::move(s);
+  w.rad = bound_radiance(w);
   return w;
 }
 

@@ -9,6 +9,7 @@
 #include "geom/shapes.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
+#include "shade/radiance_bound.h"
 #include "shade/texture.h"
 
 namespace epsray {
@@ -43,6 +44,7 @@ struct world {
   std::vector<std::int32_t> face_owner;  // per primitive id: the box of a face rectangle, else -1
   bounds box;        // tight bounds of the primitives
   float delta = 0;   // 1e-4 of the box diagonal: origin offset of secondary rays
+  radiance_range rad;  // what a ray of each depth can carry (error allowances, whitted.h)
 };
 
 world make_world(scene s);

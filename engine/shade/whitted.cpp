@@ -43,7 +43,16 @@ inline vec3 lit_term(const world& w, const material& m, vec3 kd_c, size_t j, flo
   return w.light_power[j] * (kd_c * ndl + m.ks * spec);
 }
 
-// blocker(ray, dist): some primitive the shadow ray meets before the light, or -1.
+// The shadow ray from `above` to light j: blocker_of(ray, dist) gives some primitive it
+// meets before the light, or -1.
+template <class Blocker>
+inline int shadow_ray(const world& w, vec3 above, size_t j, trace_state& st, Blocker&& blocker_of) {
+  ++st.counts.shadow;
+  const vec3 so = w.light_pos[j] - above;
+  const float dist = safe_length(so);
+  return dist > 0 ? blocker_of(make_ray(above, so / dist), dist) : -1;
+}
+
 template <class Blocker>
 inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above, vec3 nf, vec3 v, size_t j,
                            trace_state& st, Blocker&& blocker_of) {
@@ -51,10 +60,7 @@ inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above
   const vec3 lj = safe_normalize(w.light_pos[j] - p);
   out.ndl = glm::dot(nf, lj);
   if (!(out.ndl > 0)) return out;
-  ++st.counts.shadow;
-  vec3 so = w.light_pos[j] - above;
-  float dist = safe_length(so);
-  int blocker = dist > 0 ? blocker_of(make_ray(above, so / dist), dist) : -1;
+  const int blocker = shadow_ray(w, above, j, st, blocker_of);
   out.status = blocker >= 0 ? w.info[size_t(blocker)].source : light_lit;
   if (blocker < 0) out.spec = specular_power(m, nf, lj, v);
   return out;
@@ -76,6 +82,20 @@ inline bool skip_shadow_ray(const world& w, const material& m, vec3 kd_c, vec3 p
   if (!glm::all(glm::lessThanEqual(cost, *st.error_left))) return false;
   *st.error_left -= cost;
   L += 0.5f * t;
+  ++st.counts.shadow_bounded;
+  return true;
+}
+
+// Under an error allowance: a secondary ray of weight k from a hit at `depth` taken at the
+// middle of what any ray of depth + 1 carries (world::rad), when the path's share of half
+// that range fits in what is left: its true term lies within it, so the error is at most that.
+inline bool skip_secondary(const world& w, float k, int depth, trace_state& st, vec3& L) {
+  const vec3 lo = w.rad.lo[depth + 1], hi = w.rad.hi[depth + 1];
+  const vec3 cost = 0.5f * st.path_weight * k * (hi - lo);
+  if (!glm::all(glm::lessThanEqual(cost, *st.error_left))) return false;
+  *st.error_left -= cost;
+  L += 0.5f * k * (lo + hi);
+  ++st.counts.secondary_bounded;
   return true;
 }
 
@@ -170,6 +190,9 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
   const size_t nl = w.light_pos.size();
   const bool record = depth == st.root_depth && st.root_ndl;
   const bool may_skip = st.error_left && !tree && !record;
+  // A whole secondary subtree saves more rays than a shadow ray: offered the allowance first.
+  const bool skip_r = may_skip && depth < max_depth && m.ks > 0 && skip_secondary(w, m.ks, depth, st, L);
+  const bool skip_t = may_skip && depth < max_depth && m.t > 0 && skip_secondary(w, m.t, depth, st, L);
   for (size_t j = 0; j < nl; ++j) {
     if (may_skip && skip_shadow_ray(w, m, kd_c, sf.p, nf, v, j, st, L)) continue;
     const light_term lt = light_at(w, m, sf.p, above, nf, v, j, st);
@@ -186,13 +209,13 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
   if (split) *st.root_tex_factor = tex_factor;
 
   if (depth == st.root_depth && st.root_rays) st.root_rays[0] = st.root_rays[1] = vec3{0};
-  if (depth < max_depth && m.ks > 0) {
+  if (depth < max_depth && m.ks > 0 && !skip_r) {
     if (tree) tree->nodes[size_t(node)].reflect = std::int16_t(tree->nodes.size());
     const vec3 Lr = reflected_term(w, m, r, sf.p, nf, depth, st);
     if (depth == st.root_depth && st.root_rays) st.root_rays[0] = Lr;
     L += Lr;
   }
-  if (depth < max_depth && m.t > 0) {
+  if (depth < max_depth && m.t > 0 && !skip_t) {
     if (tree) {
       ray_tree_node& n = tree->nodes[size_t(node)];
       n.refract = std::int16_t(tree->nodes.size());
@@ -213,47 +236,128 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, std::uint32_t li
   return deferred_terms(w, r, h, sf, texel, lights, rays, nullptr, st);
 }
 
+namespace {
+
+// A cell's listed candidates (shadow_candidates): some one of them a shadow ray meets
+// before the light, or -1.
+struct listed_blocker {
+  const world& w;
+  const shadow_candidates& cands;
+  int operator()(const ray& sr, float dist) const {
+    for (int i = 0; i < cands.count; ++i) {
+      float t;
+      const int id = cands.prims[i];
+      if (hit_shape(w.shapes[size_t(id)], w.polys, sr, dist, t)) return id;
+    }
+    return -1;
+  }
+};
+
+inline light_term light_at_listed(const world& w, const material& m, vec3 p, vec3 above, vec3 nf, vec3 v, size_t j,
+                                  const shadow_candidates& cands, trace_state& st) {
+  return light_at(w, m, p, above, nf, v, j, st, listed_blocker{w, cands});
+}
+
+// An eye ray's hit under a pixel's error allowance: the lights of `lights` (bit j; every
+// light when `every`) and the secondary rays of `rays`, where the radiance already summed
+// is at least `known` with proven error `err` (error_room). A light is taken at half its
+// unshadowed term, and a secondary ray at the middle of its range (skip_secondary), when
+// that fits; a secondary ray that does not is traced with what is left
+// (trace_state::error_left). Adds the error it allowed to `spent`. Returns its terms added
+// to `start`, in shade_hit's order, so that where nothing fits it is shade_hit's sum bit for bit.
+vec3 terms_within(const world& w, const material& m, const ray& r, const surface& sf, vec3 nf, bool entering,
+                  vec3 kd_c, std::uint32_t lights, bool every, std::uint32_t rays, const shadow_candidates* cands,
+                  trace_state& st, vec3 start, vec3 known, vec3 err, float eps, vec3& spent) {
+  const vec3 v = -r.d, above = sf.p + w.delta * nf;
+  const size_t nl = every ? w.light_pos.size() : std::min(w.light_pos.size(), size_t(max_deferred_lights));
+  // L: the sum returned; known + L - start: what the pixel's radiance is at least.
+  vec3 L = start;
+  known -= start;
+  for (size_t j = 0; j < nl; ++j) {
+    if (!every && !(lights >> j & 1)) continue;
+    // light_at's arithmetic, so a traced light adds exactly the reference's term.
+    const vec3 lj = safe_normalize(w.light_pos[j] - sf.p);
+    const float ndl = glm::dot(nf, lj);
+    if (!(ndl > 0)) continue;  // behind the surface: no shadow ray, nothing added
+    const float spec = specular_power(m, nf, lj, v);
+    const vec3 t = lit_term(w, m, kd_c, j, ndl, spec), half = 0.5f * t;
+    if (t == vec3{0}) continue;  // no power reaches the eye from it, lit or not
+    if (glm::all(glm::lessThanEqual(half, error_room(known + L, err + spent, eps)))) {
+      L += half, spent += half, ++st.counts.shadow_bounded;
+      continue;
+    }
+    const bool listed = cands && j < size_t(max_deferred_lights) && (cands->lights >> j & 1);
+    const int blocker = listed ? shadow_ray(w, above, j, st, listed_blocker{w, *cands})
+                               : shadow_ray(w, above, j, st, [&](const ray& sr, float dist) {
+                                   return shadow_blocker(w, sr, dist, j, st);
+                                 });
+    if (blocker < 0) L += t;
+  }
+  const vec3 range = w.rad.hi[2] - w.rad.lo[2], mid = 0.5f * (w.rad.hi[2] + w.rad.lo[2]);
+  for (int i = 0; i < 2; ++i) {
+    const bool traced = i == 0 ? (rays & deferred_reflect) && m.ks > 0 : (rays & deferred_refract) && m.t > 0;
+    if (!traced) continue;
+    const float k = i == 0 ? m.ks : m.t;
+    vec3 left = error_room(known + L, err + spent, eps);
+    if (glm::all(glm::lessThanEqual(0.5f * k * range, left))) {
+      L += k * mid, spent += 0.5f * k * range, ++st.counts.secondary_bounded;
+      continue;
+    }
+    const vec3 offered = left;
+    st.error_left = &left, st.path_weight = 1;
+    L += i == 0 ? reflected_term(w, m, r, sf.p, nf, 1, st) : transmitted_term(w, m, r, sf.p, nf, entering, 1, st);
+    st.error_left = nullptr;
+    spent += offered - left;
+  }
+  return L;
+}
+
+}  // namespace
+
 vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& sf, vec3 texel, std::uint32_t lights,
                     std::uint32_t rays, const shadow_candidates* cands, trace_state& st, error_allowance* allow) {
   const material& m = w.sc.materials[size_t(w.info[size_t(h.prim)].material)];
   const bool entering = glm::dot(sf.ng, r.d) < 0;
   const vec3 nf = entering ? sf.ns : -sf.ns;
+  const vec3 kd_c = m.kd * (m.texture >= 0 ? m.color * texel : m.color);
+  if (allow && !st.tree) {
+    allow->spent = vec3{0};
+    return terms_within(w, m, r, sf, nf, entering, kd_c, lights, false, rays, cands, st, vec3{0}, allow->known,
+                        allow->err, allow->eps, allow->spent);
+  }
   vec3 L{0};
   if (lights) {
-    vec3 colour = m.color;
-    if (m.texture >= 0) colour *= texel;
-    const vec3 kd_c = m.kd * colour;
     const vec3 above = sf.p + w.delta * nf;
     for (size_t j = 0; j < w.light_pos.size() && j < size_t(max_deferred_lights); ++j) {
       if (!(lights >> j & 1)) continue;
       const bool listed = cands && (cands->lights >> j & 1);
-      const light_term lt =
-          listed ? light_at(w, m, sf.p, above, nf, -r.d, j, st,
-                            [&](const ray& sr, float dist) {
-                              for (int i = 0; i < cands->count; ++i) {
-                                float t;
-                                const int id = cands->prims[i];
-                                if (hit_shape(w.shapes[size_t(id)], w.polys, sr, dist, t)) return id;
-                              }
-                              return -1;
-                            })
-                 : light_at(w, m, sf.p, above, nf, -r.d, j, st);
+      const light_term lt = listed ? light_at_listed(w, m, sf.p, above, nf, -r.d, j, *cands, st)
+                                   : light_at(w, m, sf.p, above, nf, -r.d, j, st);
       if (lt.status == light_lit) L += lit_term(w, m, kd_c, j, lt.ndl, lt.spec);
     }
   }
-  // Its L is at least the terms summed so far (error_room).
-  vec3 left{0};
-  if (allow && !st.tree && (rays & (deferred_reflect | deferred_refract))) {
-    const vec3 known = allow->known + L;
-    left = error_room(known, allow->err, allow->eps);
-    st.error_left = &left, st.path_weight = 1;
-  }
-  const vec3 offered = left;
   if ((rays & deferred_reflect) && m.ks > 0) L += reflected_term(w, m, r, sf.p, nf, 1, st);
   if ((rays & deferred_refract) && m.t > 0) L += transmitted_term(w, m, r, sf.p, nf, entering, 1, st);
-  st.error_left = nullptr;
-  if (allow) allow->spent = offered - left;
+  if (allow) allow->spent = vec3{0};
   return L;
+}
+
+vec3 shade_within(const world& w, const ray& r, const hit& h, float eps, trace_state& st) {
+  // Below error_room's own rounding margin nothing can be bounded, and the reference's sum
+  // is kept bit for bit (terms_within's may round an ulp apart where the compiler fuses
+  // shade_hit's multiply-adds differently).
+  if (!(eps >= 1e-5f)) return shade_hit(w, r, h, 1, st);
+  const surface sf = surface_at(w, h.prim, r, h.t);
+  const material& m = w.sc.materials[size_t(w.info[size_t(h.prim)].material)];
+  const bool entering = glm::dot(sf.ng, r.d) < 0;
+  const vec3 nf = entering ? sf.ns : -sf.ns;
+  vec3 colour = m.color;
+  if (m.texture >= 0) colour *= sample_texture(w.sc.textures[size_t(m.texture)], surface_uv(w, h.prim, sf.p));
+  const vec3 kd_c = m.kd * colour;
+  const vec3 L = w.ambient * kd_c;
+  vec3 spent{0};
+  return terms_within(w, m, r, sf, nf, entering, kd_c, 0, true, deferred_reflect | deferred_refract, nullptr, st, L, L,
+                      vec3{0}, eps, spent);
 }
 
 vec3 trace_eye(const world& w, const ray& r, trace_state& st) {

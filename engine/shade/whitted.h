@@ -8,13 +8,18 @@
 
 namespace epsray {
 
-constexpr int max_depth = 5;  // eye ray = depth 1 (SPD testing procedure)
+// max_depth (eye ray = depth 1): shade/radiance_bound.h, which world.h includes.
 
 struct ray_counts {
   std::uint64_t eye = 0, reflect = 0, refract = 0, shadow = 0;
+  // Rays an error allowance bounded instead of casting: shadow rays (a light taken at half
+  // its term) and secondary rays with their subtrees (taken at the middle of their range).
+  // Not rays traced, so not in total().
+  std::uint64_t shadow_bounded = 0, secondary_bounded = 0;
   std::uint64_t total() const { return eye + reflect + refract + shadow; }
   ray_counts& operator+=(const ray_counts& o) {
     eye += o.eye, reflect += o.reflect, refract += o.refract, shadow += o.shadow;
+    shadow_bounded += o.shadow_bounded, secondary_bounded += o.secondary_bounded;
     return *this;
   }
 };
@@ -125,5 +130,12 @@ struct surface;
 vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& sf, vec3 texel, std::uint32_t lights,
                     std::uint32_t rays, const shadow_candidates* candidates, trace_state& state,
                     error_allowance* allow = nullptr);
+
+// The radiance of an eye ray's hit, for a pixel an accelerated mode traces: every term as
+// shade_hit computes it at depth 1, except that lights and secondary rays whose error fits
+// the pixel's epsilon are bounded instead of traced (terms_within in whitted.cpp), down the
+// whole ray tree. Within eps of shade_hit's radiance (whitted.md 6); under eps 1e-5, where
+// nothing fits, it is shade_hit's.
+vec3 shade_within(const world& w, const ray& r, const hit& h, float eps, trace_state& st);
 
 }  // namespace epsray
