@@ -34,6 +34,7 @@ frame_record make_frame_record(int index, const frame_result& fr, const verify_r
   frame_record r{index, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms,
                  fr.ahead_ms, fr.ahead_wait_ms, fr.shade, fr.after_ms};
   r.objects_off = fr.objects_off;
+  r.plain = fr.plain;
   r.mirror_filled = fr.mirror_filled, r.mirror_looked_up = fr.mirror_looked_up, r.mirror_traced = fr.mirror_traced;
   r.mirror_cells = fr.mirror_cells, r.mirror_trusted = fr.mirror_trusted;
   if (vr) {
@@ -88,6 +89,7 @@ void write_stats_json(const run_record& r, const std::string& path) {
                            {"deferred_ms", f.path_ms.deferred},
                            {"build_ms", f.path_ms.build},
                            {"objects_off", f.objects_off},
+                           {"plain", f.plain},
                            {"memory_bytes", f.memory_bytes},
                            {"linetree_bytes", f.linetree_bytes}};
     fj["sched"] = {{"shade_ms", f.shade.wall_ms}, {"join_ms", f.shade.join_ms}, {"tail_ms", f.shade.tail_ms},

@@ -21,6 +21,7 @@ struct frame_record {
   phase_times shade;   // the tile phase and its threads' waits (frame_result)
   double after_ms = 0;
   std::uint64_t objects_off = 0;  // interp, full: traced by the object gate in the next frame
+  bool plain = false;             // full: a plain frame (object_gate.h)
   // Full: the reflector's deferred reflections by source, and its mirror cells (frame_result).
   std::uint64_t mirror_filled = 0, mirror_looked_up = 0, mirror_traced = 0, mirror_cells = 0, mirror_trusted = 0;
   bool verified = false;

@@ -229,7 +229,17 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   // Full mode only: interp mode is the paper's interpolate path for every object, which the
   // still-frame benchmark and the stress tests measure as such.
   const bool gated = p.mode == render_mode::full && f.p.object_gate && f.p.eps > 0 && p.trees->gate.enabled();
-  if ((p.mode == render_mode::interp || p.mode == render_mode::full) && (f.p.min_prim_pixels > 0 || gated)) {
+  // A plain frame (object_gate.h, plain_share): every pixel traced under its allowance, no
+  // cells; the next frame with cells starts with none to reproject.
+  const bool plain = gated && p.trees->gate.plain();
+  out.plain = plain;
+  if (plain) {
+    reprojection_state& rs = *p.reproj;
+    if (rs.ahead.job.valid()) finish_ahead(rs.ahead);
+    rs.ahead.ready = false, rs.ahead.cells.clear();
+    rs.cells.clear(), rs.mirror.cells.clear();
+  }
+  if (!plain && (p.mode == render_mode::interp || p.mode == render_mode::full) && (f.p.min_prim_pixels > 0 || gated)) {
     small.resize(w.prim_bounds.size());
     if (gated) off.resize(small.size()), box_px.resize(small.size());
     pool.run([&] {
@@ -251,7 +261,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   std::vector<std::int32_t, no_init_allocator<std::int32_t>> owner;  // reproject_cells fills it
   std::vector<cell_trust> trusted;
   reprojection_frame rp;
-  if (p.mode == render_mode::full) {
+  if (p.mode == render_mode::full && !plain) {
     const auto r0 = std::chrono::steady_clock::now();
     reprojection_state& rs = *p.reproj;
     owner.resize(size_t(cam.width) * size_t(cam.height));
@@ -293,7 +303,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   std::vector<cell_trust> mirror_trusted;
   std::vector<std::uint8_t> mirror_small;
   bool mirrored = false;
-  if (p.mode == render_mode::full && f.p.mirror && f.p.eps > 0) {
+  if (p.mode == render_mode::full && f.p.mirror && f.p.eps > 0 && !plain) {
     const auto r0 = std::chrono::steady_clock::now();
     mirror_state& ms = p.reproj->mirror;
     mf.view = choose_mirror(w, cam);
@@ -396,13 +406,21 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       case render_mode::interp:
       case render_mode::full:
       case render_mode::lightfield:
+        if (plain) {
+          shade_rows_within(w, cam, tiles[i].y0, tiles[i].y1, f.p.eps, out.img, st);
+          totals[i].rays = st.counts;
+          totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
+          totals[i].ticks_base = cycle_now() - c0;
+          break;
+        }
         shade_tile_interp(f, p.mode == render_mode::full ? &rp : nullptr, mirrored ? &mf : nullptr,
                           p.mode == render_mode::lightfield ? p.lf_depth : -1, tiles[i], out.img,
                           p.reasons ? &out.reasons : nullptr, totals[i]);
         keep_first_uses(totals[i].cells);  // here, in parallel: the serial merge below then sees far fewer
         break;
     }
-    if (p.reasons && (p.mode == render_mode::base || p.mode == render_mode::upsample || p.mode == render_mode::reuse))
+    if (p.reasons &&
+        (plain || p.mode == render_mode::base || p.mode == render_mode::upsample || p.mode == render_mode::reuse))
       for (int y = tiles[i].y0; y < tiles[i].y1; ++y)
         for (int x = 0; x < cam.width; ++x) out.reasons.at(x, y) = reason_colour(pixel_reason::traced);
     tile_ticks[i] = cycle_now() - c0;
@@ -419,7 +437,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     out.path_ms.span += double(t.ticks_span) / tick_ms;
     out.path_ms.build += double(t.ticks_build) / tick_ms;
   }
-  if (p.mode == render_mode::full) {
+  if (p.mode == render_mode::full && !plain) {
     reprojection_ahead& ahead = p.reproj->ahead;
     if (ahead.job.valid()) {
       out.ahead_wait_ms = finish_ahead(ahead);
@@ -448,10 +466,14 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       ms.trees->evict();
     }
   }
-  if (gated) {
+  if (plain) {
+    p.trees->gate.plain_done();
+    out.objects_off = p.trees->gate.objects_off();
+  } else if (gated) {
     std::vector<gate_entry> entries;
     for (const tile_totals& t : totals) entries.insert(entries.end(), t.gate.begin(), t.gate.end());
-    p.trees->gate.update(entries, p.camera_moving, box_px.data());
+    p.trees->gate.update(entries, p.camera_moving, box_px.data(),
+                         std::uint64_t(cam.width) * std::uint64_t(cam.height));
     out.objects_off = p.trees->gate.objects_off();
   }
   if (p.trees) p.trees->evict();  // between frames: nothing else touches the trees now

@@ -3,6 +3,8 @@
 // what it decides depends on counts alone, so a walk's images do not depend on threads.
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "interp/object_gate.h"
 #include "sched/frame_render.h"
 #include "sched/verify.h"
@@ -58,6 +60,39 @@ TEST(ObjectGate, LosingObjectIsTracedThenTriedAgainLaterEachTime) {
   EXPECT_FALSE(g.off(0, 100));
 }
 
+TEST(ObjectGate, FramesGoPlainWhileCellsServeUnderAFifthOfThePixels) {
+  object_gate g;
+  g.resize(2);
+  const float px[2] = {100, 100};
+  gate_entry paying{0, {}}, losing{1, {}};
+  paying.t.span = 15, paying.t.saved = 60;                        // pays, but serves 15 pixels
+  losing.t.fast = 50, losing.t.saved = 100, losing.t.own = 100;  // turned off: serves none next
+  g.update({paying, losing}, false, px, 100);
+  EXPECT_TRUE(g.off(1, 100));
+  // 15 of 100 pixels served by objects still on: 8 plain frames.
+  for (int k = 0; k < 8; ++k) {
+    EXPECT_TRUE(g.plain()) << k;
+    g.plain_done();
+  }
+  EXPECT_FALSE(g.plain());
+  EXPECT_FALSE(g.off(1, 100)) << "plain frames count towards an object's wait";
+  // Low again: 16 plain frames; a frame at or over the share ends the doubling.
+  g.update({paying}, false, px, 100);
+  int frames = 0;
+  while (g.plain()) g.plain_done(), ++frames;
+  EXPECT_EQ(frames, 16);
+  gate_entry serving{0, {}};
+  serving.t.span = 20, serving.t.saved = 80;
+  g.update({serving}, false, px, 100);
+  EXPECT_FALSE(g.plain()) << "a fifth served keeps the cells";
+  g.update({paying}, false, px, 100);
+  frames = 0;
+  while (g.plain()) g.plain_done(), ++frames;
+  EXPECT_EQ(frames, 8);
+  g.update({paying}, false, px, 0);
+  EXPECT_FALSE(g.plain()) << "no frame size given: no plain frames";
+}
+
 // A matte wall that its cells serve well, and before it a large glass sphere, whose cells
 // fail or leave its refraction of the wall's squares to per-pixel rays while their
 // corner lines carry the refraction chains: they cost more than they save.
@@ -92,9 +127,18 @@ f 1 1 1 0.05 0.1 30 0.9 1.5
 s 0 0.5 1 1.3
 )";
 
+// The glass sphere seen from close by: almost every pixel is the sphere's, whose cells do
+// not pay, so once it is gated the cells left serve under plain_share of the frame.
+std::string close_glass_scene() {
+  std::string s = glass_scene;
+  s.replace(s.find("from 0 0.5 6"), 12, "from 0 0.5 3.2");
+  return s;
+}
+
 struct gated_walk {
   std::vector<image> frames;
   std::vector<std::uint64_t> off;
+  std::vector<int> plain;
   std::uint64_t fast = 0, base = 0;
   std::uint64_t eye_rays = 0;  // frames 1 on: the visibility rays and the builds' corner lines
 };
@@ -121,6 +165,7 @@ gated_walk walk(const world& w, int frames, int threads, bool gate, bool verify,
       EXPECT_EQ(vr.violations, 0u) << "frame " << k << ", max error " << vr.max_rel_err;
     }
     out.off.push_back(fr.objects_off);
+    out.plain.push_back(fr.plain);
     out.fast += fr.pixels.fast, out.base += fr.pixels.base;
     if (k > 0) out.eye_rays += fr.rays.eye;
     out.frames.push_back(std::move(fr.img));
@@ -140,15 +185,31 @@ TEST(ObjectGate, GlassSphereIsTracedWhileTheWallKeepsItsCellsWithinEps) {
   EXPECT_LT(on.eye_rays, off.eye_rays) << "no lines are traced for the gated sphere's cells";
 }
 
+TEST(ObjectGate, CloseGlassGoesPlainWithinEps) {
+  const world w = test::world_from_text(close_glass_scene());
+  const gated_walk on = walk(w, 12, 2, true, true, tile_order::costly_first);
+  int plain = 0;
+  for (int k : on.plain) plain += k;
+  EXPECT_GE(plain, 4) << "the cells serve too little: frames are traced plainly";
+  EXPECT_EQ(on.plain.back(), 1) << "once plain, 8 frames in a row";
+  EXPECT_EQ(on.plain[0], 0) << "the first frame has cells: the gate needs its counts";
+  const gated_walk off = walk(w, 12, 2, false, false, tile_order::costly_first);
+  for (int k : off.plain) EXPECT_EQ(k, 0) << "--object-gate off: never plain";
+}
+
 TEST(ObjectGate, GatedWalkIgnoresThreadCountAndTileOrder) {
-  const world w = test::world_from_text(glass_scene);
-  const gated_walk a = walk(w, 12, 1, true, false, tile_order::costly_first);
-  for (int threads : {2, 8}) {
-    const gated_walk b = walk(w, 12, threads, true, false, threads == 8 ? tile_order::scan : tile_order::costly_first);
-    ASSERT_EQ(a.frames.size(), b.frames.size());
-    for (size_t k = 0; k < a.frames.size(); ++k) {
-      EXPECT_TRUE(test::same_pixels(a.frames[k], b.frames[k])) << threads << " threads, frame " << k;
-      EXPECT_EQ(a.off[k], b.off[k]) << threads << " threads, frame " << k;
+  for (const std::string& text : {std::string(glass_scene), close_glass_scene()}) {
+    const world w = test::world_from_text(text);
+    const gated_walk a = walk(w, 12, 1, true, false, tile_order::costly_first);
+    for (int threads : {2, 8}) {
+      const gated_walk b =
+          walk(w, 12, threads, true, false, threads == 8 ? tile_order::scan : tile_order::costly_first);
+      ASSERT_EQ(a.frames.size(), b.frames.size());
+      for (size_t k = 0; k < a.frames.size(); ++k) {
+        EXPECT_TRUE(test::same_pixels(a.frames[k], b.frames[k])) << threads << " threads, frame " << k;
+        EXPECT_EQ(a.off[k], b.off[k]) << threads << " threads, frame " << k;
+        EXPECT_EQ(a.plain[k], b.plain[k]) << threads << " threads, frame " << k;
+      }
     }
   }
 }

@@ -363,7 +363,7 @@ pixel_line find_pixel_line(const interp_frame& f, int x, int y, trace_state& st,
       return pl;
     }
   }
-  out.L = f.p.eps > 0 ? shade_within(w, pl.r, pl.h, f.p.eps, st) : shade_hit(w, pl.r, pl.h, 1, st);
+  out.L = shade_hit(w, pl.r, pl.h, 1, st);
   return pl;
 }
 
@@ -461,7 +461,7 @@ pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state
   } else {
     out.reason = pixel_reason(int(ip->reason));
   }
-  out.L = shade_within(w, r, h, f.p.eps, st);  // eps > 0 here: find_pixel_line found a linetree
+  out.L = shade_hit(w, r, h, 1, st);
   return out;
 }
 

@@ -31,7 +31,8 @@ void object_gate::resize(std::size_t prims) {
   touched_.clear();
 }
 
-void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels) {
+void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels,
+                         std::uint64_t frame_pixels) {
   if (!enabled()) return;
   for (const gate_entry& e : tallies) {
     if (e.prim < 0 || std::size_t(e.prim) >= sum_.size()) continue;
@@ -41,12 +42,15 @@ void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, co
   }
   ++frame_;  // the frame now coming
 
+  std::uint64_t served = 0;  // by the cells of objects still on
   for (int p : touched_) {
     gate_tally& s = sum_[std::size_t(p)];
     // Only a clear loss counts: half a ray a pixel (on the art-room walk at 800x600 any
     // loss at all turned off objects whose cells paid later, 1.097 of the time).
     const double pixels = double(s.fast + s.span + s.interp + s.traced);
-    if (gate_gain(s, moving) < -gate_margin * pixels) {
+    if (!(gate_gain(s, moving) < -gate_margin * pixels)) {
+      served += s.fast + s.span + s.interp;
+    } else {
       const std::uint8_t k = strikes_[std::size_t(p)];
       off_until_[std::size_t(p)] = frame_ + (8u << std::min<unsigned>(k, 3));
       strikes_[std::size_t(p)] = std::uint8_t(std::min(k + 1, 255));
@@ -55,6 +59,13 @@ void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, co
     s = gate_tally{};
   }
   touched_.clear();
+  if (frame_pixels == 0) return;
+  if (double(served) < plain_share * double(frame_pixels)) {
+    plain_left_ = 8u << std::min<unsigned>(plain_strikes_, 3);
+    plain_strikes_ = std::uint8_t(std::min(plain_strikes_ + 1, 255));
+  } else {
+    plain_strikes_ = 0;
+  }
 }
 
 std::size_t object_gate::objects_off() const {

@@ -46,6 +46,16 @@ double gate_gain(const gate_tally& t, bool moving, const gate_weights& wt = {});
 // An object is turned off when its gain is below -gate_margin rays per pixel it covered.
 constexpr double gate_margin = 0.5;
 
+// Whole frames: when the cells of the objects still on served fewer than plain_share of a
+// frame's pixels, the next frames are plain, every pixel traced under its allowance
+// (shade_within) with no owner buffer, reprojection or lookup: 8, then 16, 32 and 64
+// frames, then a frame with cells again. Full mode's traced pixels cost 6-10% more than
+// base pixels (the per-pixel lookups of the owner buffer and the linetrees, the tallies),
+// and a served pixel saves well under half of a traced one where cells defer their
+// secondary rays (SPD scenes: docs/walkthroughs.md, section 3), so below a fifth of the
+// pixels served the cells cannot pay for that.
+constexpr double plain_share = 0.2;
+
 class object_gate {
  public:
   void resize(std::size_t prims);
@@ -61,14 +71,21 @@ class object_gate {
   // After a frame: its tallies (any order; entries of one prim are summed), whether the
   // camera moved (builds count only then: a resting camera keeps its cells), and each
   // object's box_pixels in that frame.
-  void update(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels);
+  // `frame_pixels`: the frame's pixel count, for plain_share.
+  void update(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels,
+              std::uint64_t frame_pixels = 0);
   std::size_t objects_off() const;
+  // Is the coming frame plain (plain_share)? plain_done() after rendering it so.
+  bool plain() const { return plain_left_ > 0; }
+  void plain_done() { plain_left_ -= plain_left_ > 0, ++frame_; }  // objects' waits run on
 
  private:
   std::uint32_t frame_ = 0;
   std::vector<std::uint32_t> off_until_;  // the frame from which the object has linetrees again
   std::vector<std::uint8_t> strikes_;     // times turned off: the next retry waits longer
   std::vector<float> off_pixels_;         // box_pixels when turned off
+  std::uint32_t plain_left_ = 0;          // plain frames still to come
+  std::uint8_t plain_strikes_ = 0;        // times frames went plain in a row of low shares
   std::vector<gate_tally> sum_;           // update's scratch
   std::vector<int> touched_;
 };

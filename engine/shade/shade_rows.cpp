@@ -1,5 +1,7 @@
 #include "shade/shade_rows.h"
 
+#include <limits>
+
 namespace epsray {
 
 void shade_rows_base(const world& w, const camera& cam, int y0, int y1, image& out, trace_state& st,
@@ -15,6 +17,18 @@ void shade_rows_base(const world& w, const camera& cam, int y0, int y1, image& o
     }
   }
   st.tree = saved;
+}
+
+void shade_rows_within(const world& w, const camera& cam, int y0, int y1, float eps, image& out, trace_state& st) {
+  for (int y = y0; y < y1; ++y) {
+    for (int x = 0; x < cam.width; ++x) {
+      const ray r = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
+      ++st.counts.eye;
+      hit h;
+      out.at(x, y) = closest_hit(w, r, std::numeric_limits<float>::infinity(), h) ? shade_within(w, r, h, eps, st)
+                                                                                  : w.background;
+    }
+  }
 }
 
 }  // namespace epsray

@@ -66,24 +66,36 @@ inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above
   return out;
 }
 
-// Light j's term where it reaches the point, as light_at's caller adds it when lit.
-inline vec3 unshadowed_term(const world& w, const material& m, vec3 kd_c, vec3 p, vec3 nf, vec3 v, size_t j) {
+// Light j under an error allowance: taken at half its unshadowed term t, with no shadow
+// ray, when weight t / 2 fits in `left` (its true term is 0 or t); else its shadow ray is
+// cast as light_at casts it. The diffuse part alone (t without the highlight, never more
+// than t) refuses most, so the highlight's power is computed only for a light that may fit
+// or is lit, as the reference computes it.
+struct allowed_light {
+  vec3 L{0}, cost{0};
+};
+
+template <class Blocker>
+inline allowed_light light_within(const world& w, const material& m, vec3 kd_c, vec3 p, vec3 above, vec3 nf, vec3 v,
+                                  size_t j, float weight, vec3 left, trace_state& st, Blocker&& blocker_of) {
+  allowed_light out;
   const vec3 lj = safe_normalize(w.light_pos[j] - p);
   const float ndl = glm::dot(nf, lj);
-  return ndl > 0 ? lit_term(w, m, kd_c, j, ndl, specular_power(m, nf, lj, v)) : vec3{0};
-}
-
-// Under an error allowance (trace_state::error_left): light j taken at half its unshadowed
-// term when the path's share of the other half fits in what is left.
-inline bool skip_shadow_ray(const world& w, const material& m, vec3 kd_c, vec3 p, vec3 nf, vec3 v, size_t j,
-                            trace_state& st, vec3& L) {
-  const vec3 t = unshadowed_term(w, m, kd_c, p, nf, v, j);
-  const vec3 cost = 0.5f * st.path_weight * t;
-  if (!glm::all(glm::lessThanEqual(cost, *st.error_left))) return false;
-  *st.error_left -= cost;
-  L += 0.5f * t;
-  ++st.counts.shadow_bounded;
-  return true;
+  if (!(ndl > 0)) return out;  // behind the surface: no shadow ray, nothing added
+  const float half_weight = 0.5f * weight;
+  if (glm::all(glm::lessThanEqual(half_weight * (w.light_power[j] * (kd_c * ndl)), left))) {
+    const vec3 t = lit_term(w, m, kd_c, j, ndl, specular_power(m, nf, lj, v));
+    const vec3 cost = half_weight * t;
+    if (glm::all(glm::lessThanEqual(cost, left))) {
+      ++st.counts.shadow_bounded;
+      out.L = 0.5f * t, out.cost = cost;
+      return out;
+    }
+    if (shadow_ray(w, above, j, st, blocker_of) < 0) out.L = t;
+    return out;
+  }
+  if (shadow_ray(w, above, j, st, blocker_of) < 0) out.L = lit_term(w, m, kd_c, j, ndl, specular_power(m, nf, lj, v));
+  return out;
 }
 
 // Under an error allowance: a secondary ray of weight k from a hit at `depth` taken at the
@@ -189,12 +201,18 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
   const vec3 above = sf.p + w.delta * nf;
   const size_t nl = w.light_pos.size();
   const bool record = depth == st.root_depth && st.root_ndl;
-  const bool may_skip = st.error_left && !tree && !record;
+  // An allowance used up (or none left for a dark pixel) is not worth the checks.
+  const bool may_skip = st.error_left && !tree && !record && glm::any(glm::greaterThan(*st.error_left, vec3{0}));
   // A whole secondary subtree saves more rays than a shadow ray: offered the allowance first.
   const bool skip_r = may_skip && depth < max_depth && m.ks > 0 && skip_secondary(w, m.ks, depth, st, L);
   const bool skip_t = may_skip && depth < max_depth && m.t > 0 && skip_secondary(w, m.t, depth, st, L);
   for (size_t j = 0; j < nl; ++j) {
-    if (may_skip && skip_shadow_ray(w, m, kd_c, sf.p, nf, v, j, st, L)) continue;
+    if (may_skip) {
+      const allowed_light al = light_within(w, m, kd_c, sf.p, above, nf, v, j, st.path_weight, *st.error_left, st,
+                                            [&](const ray& sr, float dist) { return shadow_blocker(w, sr, dist, j, st); });
+      L += al.L, *st.error_left -= al.cost;
+      continue;
+    }
     const light_term lt = light_at(w, m, sf.p, above, nf, v, j, st);
     if (lt.status == light_lit) {
       L += lit_term(w, m, kd_c, j, lt.ndl, lt.spec);
@@ -273,25 +291,17 @@ vec3 terms_within(const world& w, const material& m, const ray& r, const surface
   // L: the sum returned; known + L - start: what the pixel's radiance is at least.
   vec3 L = start;
   known -= start;
+  // The room before the lights, less what skipped ones take: the lights traced would widen
+  // it, but a division per light cost more than the rays it saved.
+  vec3 room = error_room(known + L, err + spent, eps);
   for (size_t j = 0; j < nl; ++j) {
     if (!every && !(lights >> j & 1)) continue;
-    // light_at's arithmetic, so a traced light adds exactly the reference's term.
-    const vec3 lj = safe_normalize(w.light_pos[j] - sf.p);
-    const float ndl = glm::dot(nf, lj);
-    if (!(ndl > 0)) continue;  // behind the surface: no shadow ray, nothing added
-    const float spec = specular_power(m, nf, lj, v);
-    const vec3 t = lit_term(w, m, kd_c, j, ndl, spec), half = 0.5f * t;
-    if (t == vec3{0}) continue;  // no power reaches the eye from it, lit or not
-    if (glm::all(glm::lessThanEqual(half, error_room(known + L, err + spent, eps)))) {
-      L += half, spent += half, ++st.counts.shadow_bounded;
-      continue;
-    }
     const bool listed = cands && j < size_t(max_deferred_lights) && (cands->lights >> j & 1);
-    const int blocker = listed ? shadow_ray(w, above, j, st, listed_blocker{w, *cands})
-                               : shadow_ray(w, above, j, st, [&](const ray& sr, float dist) {
-                                   return shadow_blocker(w, sr, dist, j, st);
-                                 });
-    if (blocker < 0) L += t;
+    const allowed_light al =
+        listed ? light_within(w, m, kd_c, sf.p, above, nf, v, j, 1.0f, room, st, listed_blocker{w, *cands})
+               : light_within(w, m, kd_c, sf.p, above, nf, v, j, 1.0f, room, st,
+                              [&](const ray& sr, float dist) { return shadow_blocker(w, sr, dist, j, st); });
+    L += al.L, spent += al.cost, room -= al.cost;
   }
   const vec3 range = w.rad.hi[2] - w.rad.lo[2], mid = 0.5f * (w.rad.hi[2] + w.rad.lo[2]);
   for (int i = 0; i < 2; ++i) {
