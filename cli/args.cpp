@@ -34,6 +34,12 @@ double to_number(const std::string& flag, const std::string& v, double lo, doubl
   return x;
 }
 
+// The switches that take on or off.
+bool on_off(const std::string& flag, const std::string& v) {
+  if (v != "on" && v != "off") bad("bad " + flag + " '" + v + "': expected on or off");
+  return v == "on";
+}
+
 std::pair<int, int> to_size(const std::string& v) {
   size_t x = v.find('x');
   if (x == std::string::npos) bad("bad --size '" + v + "': expected WxH, such as 800x600");
@@ -170,17 +176,16 @@ const std::vector<flag_spec>& flags() {
       {"--object-gate", "on|off", ALL, false,
        std::string("full: trace, with no linetree, objects whose cells cost more than they saved in the last "
                    "frame by the counts of rays and pixels (default ") + (ip.object_gate ? "on" : "off") + ")",
-       [](cli_options& o, arg, arg v) {
-         if (v != "on" && v != "off") bad("bad --object-gate '" + v + "': expected on or off");
-         o.object_gate = v == "on";
-       }},
+       [](cli_options& o, arg f, arg v) { o.object_gate = on_off(f, v); }},
+      {"--plain-frames", "on|off", ALL, false,
+       std::string("full, with the object gate: trace whole frames plainly, for 8 frames and more, after a frame whose "
+                   "cells saved under a fifth of a plain frame's rays (default ") +
+           (ip.plain_frames ? "on" : "off") + ")",
+       [](cli_options& o, arg f, arg v) { o.plain_frames = on_off(f, v); }},
       {"--mirror", "on|off", ALL, false,
        std::string("full: a planar reflector's reflections through the mirrored eye, from reprojected cells (default ") +
            (ip.mirror ? "on" : "off") + ")",
-       [](cli_options& o, arg, arg v) {
-         if (v != "on" && v != "off") bad("bad --mirror '" + v + "': expected on or off");
-         o.mirror = v == "on";
-       }},
+       [](cli_options& o, arg f, arg v) { o.mirror = on_off(f, v); }},
       {"--split", "4|16", ALL, false,
        std::string("split a refused cell along the axes the failure points at (4) or always all four (16) (default ") +
            (ip.four_way ? "4" : "16") + ")",

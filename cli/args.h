@@ -38,6 +38,7 @@ struct cli_options {
   std::optional<float> min_cell_pixels, failed_split_pixels, defer_pixels;
   bool four_way = interp_params{}.four_way;
   bool object_gate = interp_params{}.object_gate;
+  bool plain_frames = interp_params{}.plain_frames;
   bool mirror = interp_params{}.mirror;
   int span_segment = interp_params{}.span_segment;  // full: screen-space span segments; 0: none
   bool reproject_osmesa = false;  // full: draw last frame's cells with OSMesa, not the exact per-pixel test

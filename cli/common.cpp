@@ -101,6 +101,7 @@ frame_params make_frame_params(const cli_options& o, linetree_set* trees, reproj
   if (o.defer_pixels) fp.interp.defer_pixels = fp.interp.moving_defer_pixels = *o.defer_pixels;
   fp.interp.four_way = o.four_way;
   fp.interp.object_gate = o.object_gate;
+  fp.interp.plain_frames = o.plain_frames;
   fp.interp.mirror = o.mirror;
   fp.interp.span_segment = o.span_segment;
   fp.trees = trees;

@@ -229,9 +229,10 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   // Full mode only: interp mode is the paper's interpolate path for every object, which the
   // still-frame benchmark and the stress tests measure as such.
   const bool gated = p.mode == render_mode::full && f.p.object_gate && f.p.eps > 0 && p.trees->gate.enabled();
-  // A plain frame (object_gate.h, plain_share): every pixel traced under its allowance, no
+  // A plain frame (object_gate.h, plain_gain): every pixel traced under its allowance, no
   // cells; the next frame with cells starts with none to reproject.
-  const bool plain = gated && p.trees->gate.plain();
+  const bool plain = gated && f.p.plain_frames && p.trees->gate.plain();
+  const bool plain_allowance = plain && p.trees->gate.plain_allowance();
   out.plain = plain;
   if (plain) {
     reprojection_state& rs = *p.reproj;
@@ -407,7 +408,10 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       case render_mode::full:
       case render_mode::lightfield:
         if (plain) {
-          shade_rows_within(w, cam, tiles[i].y0, tiles[i].y1, f.p.eps, out.img, st);
+          if (plain_allowance)
+            shade_rows_within(w, cam, tiles[i].y0, tiles[i].y1, f.p.eps, out.img, st);
+          else
+            shade_rows_base(w, cam, tiles[i].y0, tiles[i].y1, out.img, st, nullptr);
           totals[i].rays = st.counts;
           totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
           totals[i].ticks_base = cycle_now() - c0;
@@ -467,13 +471,14 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     }
   }
   if (plain) {
-    p.trees->gate.plain_done();
+    const ray_counts& r = out.rays;
+    p.trees->gate.plain_done(plain_allowance ? r.shadow_bounded + r.secondary_bounded : 0,
+                             plain_allowance ? r.shadow + r.reflect + r.refract : 0);
     out.objects_off = p.trees->gate.objects_off();
   } else if (gated) {
     std::vector<gate_entry> entries;
     for (const tile_totals& t : totals) entries.insert(entries.end(), t.gate.begin(), t.gate.end());
-    p.trees->gate.update(entries, p.camera_moving, box_px.data(),
-                         std::uint64_t(cam.width) * std::uint64_t(cam.height));
+    p.trees->gate.update(entries, p.camera_moving, box_px.data(), f.p.plain_frames ? out.rays.total() : 0);
     out.objects_off = p.trees->gate.objects_off();
   }
   if (p.trees) p.trees->evict();  // between frames: nothing else touches the trees now

@@ -114,7 +114,7 @@ struct frame_result {
   // Interp and full: objects the gate will trace with no linetree in the next frame
   // (engine/interp/object_gate.h).
   std::uint64_t objects_off = 0;
-  bool plain = false;  // full: traced plainly, no cells (object_gate.h, plain_share)
+  bool plain = false;  // full: traced plainly, no cells (object_gate.h, plain_gain)
   // Full: the reflector's deferred reflections by source (engine/reproject/mirror.h): a
   // reprojected mirror cell, a mirror cell looked up after a BVH walk, traced.
   std::uint64_t mirror_filled = 0, mirror_looked_up = 0, mirror_traced = 0;

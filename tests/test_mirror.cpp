@@ -107,7 +107,7 @@ mirror_walk walk(const world& w, int threads, bool verify) {
   workers pool(threads);
   frame_params p;
   p.mode = render_mode::full;
-  p.interp.mirror = true;
+  p.interp.mirror = true, p.interp.plain_frames = false;
   p.trees = &trees, p.reproj = &reproj;
   mirror_walk out;
   camera last;

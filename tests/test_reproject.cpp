@@ -72,6 +72,7 @@ walk_result walk_full(const world& w, const std::vector<camera_view>& views, int
   p.trees = &trees;
   p.reproj = &reproj;
   p.order = order;
+  p.interp.plain_frames = false;  // the reprojection is what these walks test
   if (span_segment >= 0) p.interp.span_segment = span_segment;
   walk_result out;
   for (size_t k = 0; k < views.size(); ++k) {
@@ -330,6 +331,7 @@ struct next_eye {
     workers pool(2);
     frame_params p;
     p.mode = render_mode::full, p.interp.eps = 0.05f, p.trees = &trees, p.reproj = &reproj;
+    p.interp.plain_frames = false;  // the reprojection is what these test
     render_frame(pool, w, make_camera(w.sc.view, width, height), p);
     camera_view v = w.sc.view;
     v.from += 0.05f * glm::normalize(v.at - v.from), v.at.x += 0.2f;
@@ -546,6 +548,7 @@ TEST(Reprojection, AMovingCameraBuildsFewerEdgeCellsThanARestingOne) {
     workers pool(2);
     frame_params p;
     p.mode = render_mode::full, p.interp.eps = 0.05f, p.trees = &trees, p.reproj = &reproj;
+    p.interp.plain_frames = false;  // the reprojection is what these test
     if (same_floors) {
       p.interp.moving_min_cell_pixels = p.interp.min_cell_pixels;
       p.interp.moving_failed_split_pixels = p.interp.failed_split_pixels;
@@ -590,6 +593,7 @@ TEST(FaceRaster, RegionsHoldEveryPixelWhoseLineLiesInTheCell) {
   workers pool(2);
   frame_params p;
   p.mode = render_mode::full, p.interp.eps = 0.05f, p.trees = &trees, p.reproj = &reproj;
+  p.interp.plain_frames = false;
   const int width = 160, height = 120;
   render_frame(pool, w, make_camera(w.sc.view, width, height), p);
   ASSERT_GT(reproj.cells.size(), 100u);

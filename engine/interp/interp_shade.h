@@ -38,6 +38,9 @@ struct interp_params {
   // Full: objects whose cells cost more than they save, by the counts of the last frame,
   // are traced for the next frames (object_gate.h); false: every object keeps its linetrees.
   bool object_gate = true;
+  // Full, with the object gate: whole frames traced plainly while cells pay too little
+  // (object_gate.h, plain_gain).
+  bool plain_frames = true;
   bool four_way = true;        // halve only the axes the failure points at (section 8.6)
   // Full: runs of a plain cell's pixels are span-filled in screen space, in segments of at
   // most this many pixels (engine/reproject/span_fill.h); 0: every pixel evaluates its cell.

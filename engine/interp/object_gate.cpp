@@ -32,7 +32,7 @@ void object_gate::resize(std::size_t prims) {
 }
 
 void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels,
-                         std::uint64_t frame_pixels) {
+                         std::uint64_t frame_rays) {
   if (!enabled()) return;
   for (const gate_entry& e : tallies) {
     if (e.prim < 0 || std::size_t(e.prim) >= sum_.size()) continue;
@@ -42,14 +42,14 @@ void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, co
   }
   ++frame_;  // the frame now coming
 
-  std::uint64_t served = 0;  // by the cells of objects still on
+  double gain = 0;  // of the objects still on
   for (int p : touched_) {
     gate_tally& s = sum_[std::size_t(p)];
     // Only a clear loss counts: half a ray a pixel (on the art-room walk at 800x600 any
     // loss at all turned off objects whose cells paid later, 1.097 of the time).
     const double pixels = double(s.fast + s.span + s.interp + s.traced);
     if (!(gate_gain(s, moving) < -gate_margin * pixels)) {
-      served += s.fast + s.span + s.interp;
+      gain += gate_gain(s, moving);
     } else {
       const std::uint8_t k = strikes_[std::size_t(p)];
       off_until_[std::size_t(p)] = frame_ + (8u << std::min<unsigned>(k, 3));
@@ -59,12 +59,22 @@ void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, co
     s = gate_tally{};
   }
   touched_.clear();
-  if (frame_pixels == 0) return;
-  if (double(served) < plain_share * double(frame_pixels)) {
+  if (frame_rays == 0) return;
+  if (gain < plain_gain * (double(frame_rays) + std::max(0.0, gain))) {
     plain_left_ = 8u << std::min<unsigned>(plain_strikes_, 3);
     plain_strikes_ = std::uint8_t(std::min(plain_strikes_ + 1, 255));
   } else {
     plain_strikes_ = 0;
+  }
+}
+
+void object_gate::plain_done(std::uint64_t bounded, std::uint64_t cast) {
+  plain_left_ -= plain_left_ > 0;
+  ++frame_;  // objects' waits run on
+  if (allowance_wait_ > 0) {
+    --allowance_wait_;
+  } else if (double(bounded) < allowance_share * double(bounded + cast)) {
+    allowance_wait_ = 8;
   }
 }
 

@@ -46,15 +46,17 @@ double gate_gain(const gate_tally& t, bool moving, const gate_weights& wt = {});
 // An object is turned off when its gain is below -gate_margin rays per pixel it covered.
 constexpr double gate_margin = 0.5;
 
-// Whole frames: when the cells of the objects still on served fewer than plain_share of a
-// frame's pixels, the next frames are plain, every pixel traced under its allowance
-// (shade_within) with no owner buffer, reprojection or lookup: 8, then 16, 32 and 64
-// frames, then a frame with cells again. Full mode's traced pixels cost 6-10% more than
-// base pixels (the per-pixel lookups of the owner buffer and the linetrees, the tallies),
-// and a served pixel saves well under half of a traced one where cells defer their
-// secondary rays (SPD scenes: docs/walkthroughs.md, section 3), so below a fifth of the
-// pixels served the cells cannot pay for that.
-constexpr double plain_share = 0.2;
+// Whole frames: when the cells of the objects still on saved (gate_gain summed) under
+// plain_gain of the rays a base frame would cast (the frame's own rays plus those saved),
+// the next frames are plain: every pixel traced with no owner buffer, reprojection or
+// lookup, 8, then 16, 32 and 64 frames, then a frame with cells again. Full mode's
+// machinery costs every pixel (its traced pixels cost 6-10% more than base ones), which the
+// cells' savings must pay. Measured (share of a base frame's rays saved, full against
+// base): teapot-s6, rings-s3 and mount-s4 walks -0.02-0.06, 0.8-0.9x; gears-s2 0.14-0.17,
+// 0.92-0.98x; the art room at 400x300 0.23-0.29, about 1.0x; balls-s3 0.38-0.50, 1.1x; the
+// art room at 800x600 0.35-0.59, 1.34x (docs/walkthroughs.md, section 3).
+constexpr double plain_gain = 0.2;
+constexpr double allowance_share = 0.1;
 
 class object_gate {
  public:
@@ -71,13 +73,21 @@ class object_gate {
   // After a frame: its tallies (any order; entries of one prim are summed), whether the
   // camera moved (builds count only then: a resting camera keeps its cells), and each
   // object's box_pixels in that frame.
-  // `frame_pixels`: the frame's pixel count, for plain_share.
+  // `frame_rays`: the rays the frame cast, for plain_gain (0: no plain frames).
   void update(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels,
-              std::uint64_t frame_pixels = 0);
+              std::uint64_t frame_rays = 0);
   std::size_t objects_off() const;
-  // Is the coming frame plain (plain_share)? plain_done() after rendering it so.
+  // Is the coming frame plain (plain_gain)? plain_done() after rendering it so.
   bool plain() const { return plain_left_ > 0; }
-  void plain_done() { plain_left_ -= plain_left_ > 0, ++frame_; }  // objects' waits run on
+  // Does a plain frame trace under the pixels' allowance (shade_within), or exactly? The
+  // allowance's checks cost every light and secondary ray; they pay where they bound many
+  // (mount-s4's glass: 19% of the rays it might cast, 1.07x base), not where they bound few
+  // (gears-s2 2%, teapot-s6 4%: slower than exact). So after a plain frame that bounded
+  // under allowance_share, the next 8 plain frames are exact, then it is tried again.
+  bool plain_allowance() const { return allowance_wait_ == 0; }
+  // After a plain frame: the rays its allowance bounded and those it cast (shadow and
+  // secondary; 0 and 0 for an exact one).
+  void plain_done(std::uint64_t bounded, std::uint64_t cast);
 
  private:
   std::uint32_t frame_ = 0;
@@ -85,7 +95,8 @@ class object_gate {
   std::vector<std::uint8_t> strikes_;     // times turned off: the next retry waits longer
   std::vector<float> off_pixels_;         // box_pixels when turned off
   std::uint32_t plain_left_ = 0;          // plain frames still to come
-  std::uint8_t plain_strikes_ = 0;        // times frames went plain in a row of low shares
+  std::uint8_t plain_strikes_ = 0;        // times frames went plain in a row of low gains
+  std::uint32_t allowance_wait_ = 0;      // exact plain frames before the allowance is tried again
   std::vector<gate_tally> sum_;           // update's scratch
   std::vector<int> touched_;
 };
