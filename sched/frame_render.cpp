@@ -66,10 +66,6 @@ struct reprojection_frame {
   const std::vector<cell_trust>* trust = nullptr;  // per cell
 };
 
-void note_cell(std::vector<cell_ref>& cells, const cell_ref& c) {
-  if (cells.empty() || cells.back().node != c.node) cells.push_back(c);
-}
-
 // Interp and full modes. Full: a pixel owned by one of last frame's cells is span-filled
 // from it; otherwise, and when its bound fails, it takes the interpolate path. Runs of a
 // plain cell's pixels are filled in screen space (span_fill.h), the rest pixel by pixel.

@@ -9,6 +9,7 @@
 #include "sched/frame_render.h"
 #include "sched/verify.h"
 #include "test_util.h"
+#include "test_walk.h"
 
 namespace epsray {
 namespace {
@@ -102,26 +103,15 @@ struct mirror_walk {
 };
 
 mirror_walk walk(const world& w, int threads, bool verify) {
-  linetree_set trees(w.prim_bounds);
-  reprojection_state reproj;
-  workers pool(threads);
   frame_params p;
   p.mode = render_mode::full;
   p.interp.mirror = true, p.interp.plain_frames = false;
-  p.trees = &trees, p.reproj = &reproj;
   mirror_walk out;
-  camera last;
-  for (int k = 0; k < 10; ++k) {
-    camera_view v = w.sc.view;
-    v.from.x -= 0.12f * float(k);
-    const camera cam = make_camera(v, 96, 72);
-    p.camera_moving = k > 0 && !same_camera(cam, last);
-    last = cam;
-    frame_result fr = render_frame(pool, w, cam, p);
-    if (verify) {
-      const verify_result vr = verify_frame(pool, w, cam, fr.img, p.interp.eps);
-      EXPECT_EQ(vr.violations, 0u) << "frame " << k << ", max error " << vr.max_rel_err;
-    }
+  for (frame_result& fr : test::verified_walk(w, p, 10, threads, verify, [&](int k) {
+         camera_view v = w.sc.view;
+         v.from.x -= 0.12f * float(k);
+         return make_camera(v, 96, 72);
+       })) {
     out.filled += fr.mirror_filled, out.looked_up += fr.mirror_looked_up;
     out.frames.push_back(std::move(fr.img));
   }

@@ -10,6 +10,7 @@
 #include "sched/frame_render.h"
 #include "sched/verify.h"
 #include "test_util.h"
+#include "test_walk.h"
 
 namespace epsray {
 namespace {
@@ -161,31 +162,22 @@ struct gated_walk {
 
 gated_walk walk(const world& w, int frames, int threads, bool gate, bool verify, tile_order order,
                bool plain_frames = true) {
-  linetree_set trees(w.prim_bounds);
-  reprojection_state reproj;
-  workers pool(threads);
   frame_params p;
   p.mode = render_mode::full;
   p.interp.object_gate = gate;
   p.interp.plain_frames = plain_frames;
-  p.trees = &trees, p.reproj = &reproj, p.order = order;
+  p.order = order;
   gated_walk out;
-  camera last;
-  for (int k = 0; k < frames; ++k) {
-    camera_view v = w.sc.view;
-    v.from.x += 0.08f * float(k), v.at.x += 0.08f * float(k);
-    const camera cam = make_camera(v, 96, 72);
-    p.camera_moving = k > 0 && !same_camera(cam, last);
-    last = cam;
-    frame_result fr = render_frame(pool, w, cam, p);
-    if (verify) {
-      const verify_result vr = verify_frame(pool, w, cam, fr.img, p.interp.eps);
-      EXPECT_EQ(vr.violations, 0u) << "frame " << k << ", max error " << vr.max_rel_err;
-    }
+  int k = 0;
+  for (frame_result& fr : test::verified_walk(w, p, frames, threads, verify, [&](int i) {
+         camera_view v = w.sc.view;
+         v.from.x += 0.08f * float(i), v.at.x += 0.08f * float(i);
+         return make_camera(v, 96, 72);
+       })) {
     out.off.push_back(fr.objects_off);
     out.plain.push_back(fr.plain);
     out.fast += fr.pixels.fast, out.base += fr.pixels.base;
-    if (k > 0) out.eye_rays += fr.rays.eye;
+    if (k++ > 0) out.eye_rays += fr.rays.eye;
     out.frames.push_back(std::move(fr.img));
   }
   return out;

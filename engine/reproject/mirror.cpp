@@ -36,10 +36,6 @@ void cell_value(const world& w, int prim, const lt_node& n, const interpolant& i
   L *= ks, E *= ks;
 }
 
-void note(std::vector<cell_ref>& cells, const cell_ref& c, bool* noted) {
-  if (cells.empty() || cells.back().node != c.node) cells.push_back(c), *noted = true;
-}
-
 }  // namespace
 
 mirror_view choose_mirror(const world& w, const camera& cam, float min_share) {
@@ -139,7 +135,7 @@ bool mirror_term(mirror_use& mu, const world& w, int x, int y, const surface& sf
     }
     if (ok) {
       cell_value(w, c.prim, *c.node, *c.ip, x4, rr, t2, ks, st, L, E);
-      note(mu.cells, c, noted);
+      if (note_cell(mu.cells, c)) *noted = true;
       ++mu.filled;
       return false;
     }
@@ -162,7 +158,7 @@ bool mirror_term(mirror_use& mu, const world& w, int x, int y, const surface& sf
       lt_node* node = find_cell(m.f, lt, lp, x4, st, mu.scratch, ip);
       if (ip->reason == cell_reason::valid && !ip->deferred_rays) {
         cell_value(w, lp, *node, *ip, x4, rr, h.t, ks, st, L, E);
-        note(mu.cells, cell_ref{&lt, node, ip, lp}, noted);
+        if (note_cell(mu.cells, cell_ref{&lt, node, ip, lp})) *noted = true;
         ++mu.looked_up;
         return false;
       }

@@ -84,4 +84,12 @@ bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell
 // for any tiling and schedule. (Sorting by the cells' ranges instead cost 3% of a walk.)
 void keep_first_uses(std::vector<cell_ref>& cells);
 
+// Appends c to a list of cells used in raster order unless it is the last one there (runs of
+// a cell's pixels note it once); says whether it appended.
+inline bool note_cell(std::vector<cell_ref>& cells, const cell_ref& c) {
+  if (!cells.empty() && cells.back().node == c.node) return false;
+  cells.push_back(c);
+  return true;
+}
+
 }  // namespace epsray
