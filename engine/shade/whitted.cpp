@@ -43,6 +43,15 @@ inline vec3 lit_term(const world& w, const material& m, vec3 kd_c, size_t j, flo
   return w.light_power[j] * (kd_c * ndl + m.ks * spec);
 }
 
+// Some primitive a shadow ray towards light j meets before the light, or -1: the BVH's
+// answer, light j's last blocker tried first (shadow_blocker).
+struct bvh_blocker {
+  const world& w;
+  size_t j;
+  trace_state& st;
+  int operator()(const ray& r, float dist) const { return shadow_blocker(w, r, dist, j, st); }
+};
+
 // The shadow ray from `above` to light j: blocker_of(ray, dist) gives some primitive it
 // meets before the light, or -1.
 template <class Blocker>
@@ -113,8 +122,7 @@ inline bool skip_secondary(const world& w, float k, int depth, trace_state& st, 
 
 inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above, vec3 nf, vec3 v, size_t j,
                            trace_state& st) {
-  return light_at(w, m, p, above, nf, v, j, st,
-                  [&](const ray& r, float dist) { return shadow_blocker(w, r, dist, j, st); });
+  return light_at(w, m, p, above, nf, v, j, st, bvh_blocker{w, j, st});
 }
 
 // A secondary ray's radiance times k, with the path weight scaled by k while it is traced
@@ -208,8 +216,8 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
   const bool skip_t = may_skip && depth < max_depth && m.t > 0 && skip_secondary(w, m.t, depth, st, L);
   for (size_t j = 0; j < nl; ++j) {
     if (may_skip) {
-      const allowed_light al = light_within(w, m, kd_c, sf.p, above, nf, v, j, st.path_weight, *st.error_left, st,
-                                            [&](const ray& sr, float dist) { return shadow_blocker(w, sr, dist, j, st); });
+      const allowed_light al =
+          light_within(w, m, kd_c, sf.p, above, nf, v, j, st.path_weight, *st.error_left, st, bvh_blocker{w, j, st});
       L += al.L, *st.error_left -= al.cost;
       continue;
     }
@@ -299,8 +307,7 @@ vec3 terms_within(const world& w, const material& m, const ray& r, const surface
     const bool listed = cands && j < size_t(max_deferred_lights) && (cands->lights >> j & 1);
     const allowed_light al =
         listed ? light_within(w, m, kd_c, sf.p, above, nf, v, j, 1.0f, room, st, listed_blocker{w, *cands})
-               : light_within(w, m, kd_c, sf.p, above, nf, v, j, 1.0f, room, st,
-                              [&](const ray& sr, float dist) { return shadow_blocker(w, sr, dist, j, st); });
+               : light_within(w, m, kd_c, sf.p, above, nf, v, j, 1.0f, room, st, bvh_blocker{w, j, st});
     L += al.L, spent += al.cost, room -= al.cost;
   }
   const vec3 range = w.rad.hi[2] - w.rad.lo[2], mid = 0.5f * (w.rad.hi[2] + w.rad.lo[2]);
