@@ -225,8 +225,9 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   // Full mode only: interp mode is the paper's interpolate path for every object, which the
   // still-frame benchmark and the stress tests measure as such.
   const bool gated = p.mode == render_mode::full && f.p.object_gate && f.p.eps > 0 && p.trees->gate.enabled();
-  // A plain frame (object_gate.h, plain_gain): every pixel traced under its allowance, no
-  // cells; the next frame with cells starts with none to reproject.
+  // A plain frame (object_gate.h, plain_gain): traced as base mode traces it, or under the
+  // pixels' allowance while that pays, with no cells; the next frame with cells starts with
+  // none to reproject.
   const bool plain = gated && f.p.plain_frames && p.trees->gate.plain();
   const bool plain_allowance = plain && p.trees->gate.plain_allowance();
   out.plain = plain;
@@ -374,14 +375,19 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       out.reproject_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - r0).count();
     }
   }
-  // The tiles, dearest first by last frame's costs (tile_queue.h).
+  // The tiles, dearest first by last frame's costs (tile_queue.h). A plain frame's are base's.
+  const render_mode tile_mode = plain ? render_mode::base : p.mode;
   std::vector<std::uint64_t> tile_ticks(tiles.size());
   out.shade = run_tiles(pool, pool.history().order(tiles.size(), p.order), [&](size_t i) {
     const std::uint64_t c0 = cycle_now();
     trace_state st;
-    switch (p.mode) {
+    switch (tile_mode) {
       case render_mode::base:
-        shade_rows_base(w, cam, tiles[i].y0, tiles[i].y1, out.img, st, p.keep_ray_trees ? &trees[i] : nullptr);
+        if (plain_allowance)
+          shade_rows_within(w, cam, tiles[i].y0, tiles[i].y1, f.p.eps, out.img, st);
+        else
+          shade_rows_base(w, cam, tiles[i].y0, tiles[i].y1, out.img, st,
+                          p.keep_ray_trees && !plain ? &trees[i] : nullptr);
         totals[i].rays = st.counts;
         totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
         totals[i].ticks_base = cycle_now() - c0;
@@ -403,16 +409,6 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       case render_mode::interp:
       case render_mode::full:
       case render_mode::lightfield:
-        if (plain) {
-          if (plain_allowance)
-            shade_rows_within(w, cam, tiles[i].y0, tiles[i].y1, f.p.eps, out.img, st);
-          else
-            shade_rows_base(w, cam, tiles[i].y0, tiles[i].y1, out.img, st, nullptr);
-          totals[i].rays = st.counts;
-          totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
-          totals[i].ticks_base = cycle_now() - c0;
-          break;
-        }
         shade_tile_interp(f, p.mode == render_mode::full ? &rp : nullptr, mirrored ? &mf : nullptr,
                           p.mode == render_mode::lightfield ? p.lf_depth : -1, tiles[i], out.img,
                           p.reasons ? &out.reasons : nullptr, totals[i]);
@@ -420,7 +416,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
         break;
     }
     if (p.reasons &&
-        (plain || p.mode == render_mode::base || p.mode == render_mode::upsample || p.mode == render_mode::reuse))
+        (tile_mode == render_mode::base || tile_mode == render_mode::upsample || tile_mode == render_mode::reuse))
       for (int y = tiles[i].y0; y < tiles[i].y1; ++y)
         for (int x = 0; x < cam.width; ++x) out.reasons.at(x, y) = reason_colour(pixel_reason::traced);
     tile_ticks[i] = cycle_now() - c0;

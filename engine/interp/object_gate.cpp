@@ -48,8 +48,9 @@ void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, co
     // Only a clear loss counts: half a ray a pixel (on the art-room walk at 800x600 any
     // loss at all turned off objects whose cells paid later, 1.097 of the time).
     const double pixels = double(s.fast + s.span + s.interp + s.traced);
-    if (!(gate_gain(s, moving) < -gate_margin * pixels)) {
-      gain += gate_gain(s, moving);
+    const double g = gate_gain(s, moving);
+    if (!(g < -gate_margin * pixels)) {
+      gain += g;
     } else {
       const std::uint8_t k = strikes_[std::size_t(p)];
       off_until_[std::size_t(p)] = frame_ + (8u << std::min<unsigned>(k, 3));
