@@ -35,6 +35,7 @@ frame_record make_frame_record(int index, const frame_result& fr, const verify_r
                  fr.ahead_ms, fr.ahead_wait_ms, fr.shade, fr.after_ms};
   r.objects_off = fr.objects_off;
   r.plain = fr.plain;
+  r.probe_pixels = fr.probe_pixels, r.probe_ms = fr.probe_ms;
   r.mirror_filled = fr.mirror_filled, r.mirror_looked_up = fr.mirror_looked_up, r.mirror_traced = fr.mirror_traced;
   r.mirror_cells = fr.mirror_cells, r.mirror_trusted = fr.mirror_trusted;
   if (vr) {
@@ -95,6 +96,7 @@ void write_stats_json(const run_record& r, const std::string& path) {
     fj["sched"] = {{"shade_ms", f.shade.wall_ms}, {"join_ms", f.shade.join_ms}, {"tail_ms", f.shade.tail_ms},
                    {"after_ms", f.after_ms}};
     if (r.ranks > 0) fj["rank"] = f.rank;
+    if (f.probe_pixels > 0) fj["probe"] = {{"pixels", f.probe_pixels}, {"ms", f.probe_ms}};
     if (f.ahead_ms > 0) fj["ahead_ms"] = f.ahead_ms, fj["ahead_wait_ms"] = f.ahead_wait_ms;
     if (f.mirror_filled + f.mirror_looked_up + f.mirror_traced + f.mirror_cells > 0)
       fj["mirror"] = {{"filled", f.mirror_filled}, {"looked_up", f.mirror_looked_up}, {"traced", f.mirror_traced},

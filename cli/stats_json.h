@@ -22,6 +22,8 @@ struct frame_record {
   double after_ms = 0;
   std::uint64_t objects_off = 0;  // interp, full: traced by the object gate in the next frame
   bool plain = false;             // full: a plain frame (object_gate.h)
+  std::uint64_t probe_pixels = 0;  // full: the probe before the frame (sched/frame_probe.h)
+  double probe_ms = 0;
   // Full: the reflector's deferred reflections by source, and its mirror cells (frame_result).
   std::uint64_t mirror_filled = 0, mirror_looked_up = 0, mirror_traced = 0, mirror_cells = 0, mirror_trusted = 0;
   bool verified = false;

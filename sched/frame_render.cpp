@@ -16,6 +16,7 @@
 #include "reproject/span_fill.h"
 #include "shade/shade_rows.h"
 #include "cycle_clock.h"
+#include "frame_probe.h"
 #include "tiles.h"
 
 namespace epsray {
@@ -97,17 +98,7 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, cons
     if (prim < 0) return;
     gate_tally& g = tally(prim);
     g.builds += st.builds - builds_before;
-    if (r.cell.ip && r.path == pixel_path::interp && rp) {
-      // Full mode reprojects the cell next frame, where its pixel is a fast one with no
-      // visibility ray: counted so, or a cold frame (all interpolated) would judge every
-      // object by a path it leaves after one frame.
-      ++g.fast, g.saved += r.cell.ip->tree_rays, g.own += own - std::min<std::uint64_t>(own, 1);
-    } else if (r.cell.ip && r.path != pixel_path::base) {
-      ++(r.path == pixel_path::fast ? g.fast : g.interp);
-      g.saved += r.cell.ip->tree_rays, g.own += own;
-    } else {
-      ++g.traced, g.traced_rays += own;
-    }
+    gate_count(g, r, own, rp != nullptr);
   };
   auto count = [&](const pixel_result& r, std::uint64_t ticks) {
     if (rp && r.cell.node) note_cell(tot.cells, r.cell);
@@ -228,15 +219,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   // A plain frame (object_gate.h, plain_gain): traced as base mode traces it, or under the
   // pixels' allowance while that pays, with no cells; the next frame with cells starts with
   // none to reproject.
-  const bool plain = gated && f.p.plain_frames && p.trees->gate.plain();
-  const bool plain_allowance = plain && p.trees->gate.plain_allowance();
-  out.plain = plain;
-  if (plain) {
-    reprojection_state& rs = *p.reproj;
-    if (rs.ahead.job.valid()) finish_ahead(rs.ahead);
-    rs.ahead.ready = false, rs.ahead.cells.clear();
-    rs.cells.clear(), rs.mirror.cells.clear();
-  }
+  bool plain = gated && f.p.plain_frames && p.trees->gate.plain();
   if (!plain && (p.mode == render_mode::interp || p.mode == render_mode::full) && (f.p.min_prim_pixels > 0 || gated)) {
     small.resize(w.prim_bounds.size());
     if (gated) off.resize(small.size()), box_px.resize(small.size());
@@ -254,6 +237,24 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     if (gated) f.off = off.data();
   }
   if (!gated) f.p.object_gate = false;
+  // A frame with cells after none: a probe of its pixels first says whether they pay.
+  if (gated && f.p.plain_frames && !plain && p.trees->gate.probe_due()) {
+    const auto q0 = std::chrono::steady_clock::now();
+    frame_probe probe = probe_frame(pool, f);
+    plain = p.trees->gate.probe(probe.tallies, probe.own_rays, probe.bounded, probe.cast);
+    out.rays += probe.rays;  // cast in this frame: counted with its own
+    out.path_ms.build += double(probe.build_ticks) / tick_ms;
+    out.probe_pixels = probe.pixels;
+    out.probe_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - q0).count();
+  }
+  const bool plain_allowance = plain && p.trees->gate.plain_allowance();
+  out.plain = plain;
+  if (plain) {
+    reprojection_state& rs = *p.reproj;
+    if (rs.ahead.job.valid()) finish_ahead(rs.ahead);
+    rs.ahead.ready = false, rs.ahead.cells.clear();
+    rs.cells.clear(), rs.mirror.cells.clear();
+  }
   // Full: last frame's cells from the new eye (each checked once, in parallel), then each
   // tile's pixels take the first containing trusted cell.
   std::vector<std::int32_t, no_init_allocator<std::int32_t>> owner;  // reproject_cells fills it

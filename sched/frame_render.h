@@ -115,6 +115,10 @@ struct frame_result {
   // (engine/interp/object_gate.h).
   std::uint64_t objects_off = 0;
   bool plain = false;  // full: traced plainly, no cells (object_gate.h, plain_gain)
+  // Full: the pixels of the probe that decided whether this frame keeps its cells, and its
+  // wall time (frame_probe.h); 0 when none ran.
+  std::uint64_t probe_pixels = 0;
+  double probe_ms = 0;
   // Full: the reflector's deferred reflections by source (engine/reproject/mirror.h): a
   // reprojected mirror cell, a mirror cell looked up after a BVH walk, traced.
   std::uint64_t mirror_filled = 0, mirror_looked_up = 0, mirror_traced = 0;

@@ -110,6 +110,40 @@ TEST(ObjectGate, PlainFramesKeepTheAllowanceWhereItBoundsEnough) {
   EXPECT_TRUE(g.plain_allowance()) << "tried again after 8 exact plain frames";
 }
 
+TEST(ObjectGate, ProbeOfAViewWithNoCountsSendsItPlainWhenItsCellsWouldNotPay) {
+  object_gate g;
+  g.resize(2);
+  const float px[2] = {100, 100};
+  gate_entry paying{0, {}}, losing{1, {}};
+  paying.t.span = 10, paying.t.saved = 31;                       // gains 30 rays
+  losing.t.fast = 50, losing.t.saved = 100, losing.t.own = 100;  // loses 30 + 50 x 0.6
+  EXPECT_TRUE(g.probe_due()) << "a first frame has no counts";
+  EXPECT_FALSE(g.probe({paying, losing}, 60, 0, 0)) << "30 of 90: cells";
+  EXPECT_FALSE(g.plain());
+  EXPECT_FALSE(g.off(1, 100)) << "a probe turns no object off: its few pixels judge the frame only";
+  EXPECT_TRUE(g.probe_due()) << "only a frame counted in full ends the probing";
+  g.update({paying, losing}, false, px, 60);
+  EXPECT_FALSE(g.probe_due());
+  EXPECT_TRUE(g.off(1, 100));
+  g.update({paying}, false, px, 200);  // 30 of 230: 8 plain frames
+  for (int k = 0; k < 8; ++k) {
+    EXPECT_TRUE(g.plain()) << k;
+    g.plain_done(0, 0);
+  }
+  EXPECT_TRUE(g.probe_due()) << "after plain frames the view is new again";
+  // The probe judges as update does, builds aside, with the objects that lost left out.
+  EXPECT_TRUE(g.probe({paying, losing}, 125, 20, 80)) << "30 of 155";
+  EXPECT_TRUE(g.plain_allowance()) << "the allowance bounded a fifth of the probe's rays";
+  int frames = 0;
+  while (g.plain()) g.plain_done(0, 0), ++frames;
+  EXPECT_EQ(frames, 16) << "a probe's plain frames double as update's do";
+  gate_tally built = paying.t;
+  built.builds = 100;  // what a probe pixel's own cells cost is not charged
+  EXPECT_FALSE(g.probe({gate_entry{0, built}}, 60, 0, 0));
+  EXPECT_TRUE(g.probe({paying}, 200, 5, 95));
+  EXPECT_FALSE(g.plain_allowance()) << "5% bounded: the plain frames trace exactly";
+}
+
 // A matte wall that its cells serve well, and before it a large glass sphere, whose cells
 // fail or leave its refraction of the wall's squares to per-pixel rays while their
 // corner lines carry the refraction chains: they cost more than they save.
@@ -156,6 +190,7 @@ struct gated_walk {
   std::vector<image> frames;
   std::vector<std::uint64_t> off;
   std::vector<int> plain;
+  std::vector<std::uint64_t> probe;  // the probe's pixels, per frame
   std::uint64_t fast = 0, base = 0;
   std::uint64_t eye_rays = 0;  // frames 1 on: the visibility rays and the builds' corner lines
 };
@@ -176,6 +211,7 @@ gated_walk walk(const world& w, int frames, int threads, bool gate, bool verify,
        })) {
     out.off.push_back(fr.objects_off);
     out.plain.push_back(fr.plain);
+    out.probe.push_back(fr.probe_pixels);
     out.fast += fr.pixels.fast, out.base += fr.pixels.base;
     if (k++ > 0) out.eye_rays += fr.rays.eye;
     out.frames.push_back(std::move(fr.img));
@@ -207,7 +243,14 @@ TEST(ObjectGate, CloseGlassGoesPlainWithinEps) {
   while (first < on.plain.size() && !on.plain[first]) ++first;
   for (size_t k = first; k < std::min(on.plain.size(), first + 8); ++k)
     EXPECT_EQ(on.plain[k], 1) << "once plain, 8 frames in a row: frame " << k;
-  EXPECT_EQ(on.plain[0], 0) << "the first frame has cells: the gate needs its counts";
+  EXPECT_EQ(on.plain[0], 0) << "the first frame's probe counts the sphere's pixels as reprojected ones";
+  // A probe before each frame with cells that follows none: the first, and the one after
+  // the 8 plain frames, which here finds that the cells left would not pay.
+  EXPECT_GT(on.probe[0], 0u);
+  for (size_t k = 1; k < first + 8 && k < on.probe.size(); ++k) EXPECT_EQ(on.probe[k], 0u) << "frame " << k;
+  ASSERT_LT(first + 8, on.plain.size());
+  EXPECT_GT(on.probe[first + 8], 0u);
+  EXPECT_EQ(on.plain[first + 8], 1) << "probed and sent plain";
   const gated_walk off = walk(w, 12, 2, false, false, tile_order::costly_first);
   for (int k : off.plain) EXPECT_EQ(k, 0) << "--object-gate off: never plain";
 }
@@ -224,6 +267,7 @@ TEST(ObjectGate, GatedWalkIgnoresThreadCountAndTileOrder) {
         EXPECT_TRUE(test::same_pixels(a.frames[k], b.frames[k])) << threads << " threads, frame " << k;
         EXPECT_EQ(a.off[k], b.off[k]) << threads << " threads, frame " << k;
         EXPECT_EQ(a.plain[k], b.plain[k]) << threads << " threads, frame " << k;
+        EXPECT_EQ(a.probe[k], b.probe[k]) << threads << " threads, frame " << k;
       }
     }
   }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "interp/interp_shade.h"
+
 namespace epsray {
 
 gate_tally& gate_tally::operator+=(const gate_tally& o) {
@@ -23,6 +25,17 @@ double gate_gain(const gate_tally& t, bool moving, const gate_weights& wt) {
   return gain;
 }
 
+void gate_count(gate_tally& g, const pixel_result& r, std::uint64_t own, bool reprojecting) {
+  if (r.cell.ip && r.path == pixel_path::interp && reprojecting) {
+    ++g.fast, g.saved += r.cell.ip->tree_rays, g.own += own - std::min<std::uint64_t>(own, 1);  // no visibility ray
+  } else if (r.cell.ip && r.path != pixel_path::base) {
+    ++(r.path == pixel_path::fast ? g.fast : g.interp);
+    g.saved += r.cell.ip->tree_rays, g.own += own;
+  } else {
+    ++g.traced, g.traced_rays += own;
+  }
+}
+
 void object_gate::resize(std::size_t prims) {
   off_until_.assign(prims, 0);
   strikes_.assign(prims, 0);
@@ -31,18 +44,14 @@ void object_gate::resize(std::size_t prims) {
   touched_.clear();
 }
 
-void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels,
-                         std::uint64_t frame_rays) {
-  if (!enabled()) return;
+double object_gate::judge(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels, bool apply) {
   for (const gate_entry& e : tallies) {
     if (e.prim < 0 || std::size_t(e.prim) >= sum_.size()) continue;
     gate_tally& s = sum_[std::size_t(e.prim)];
     if (!(s.fast | s.span | s.interp | s.traced | s.builds)) touched_.push_back(e.prim);
     s += e.t;
   }
-  ++frame_;  // the frame now coming
-
-  double gain = 0;  // of the objects still on
+  double gain = 0;  // of the objects kept on
   for (int p : touched_) {
     gate_tally& s = sum_[std::size_t(p)];
     // Only a clear loss counts: half a ray a pixel (on the art-room walk at 800x600 any
@@ -51,7 +60,7 @@ void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, co
     const double g = gate_gain(s, moving);
     if (!(g < -gate_margin * pixels)) {
       gain += g;
-    } else {
+    } else if (apply) {
       const std::uint8_t k = strikes_[std::size_t(p)];
       off_until_[std::size_t(p)] = frame_ + (8u << std::min<unsigned>(k, 3));
       strikes_[std::size_t(p)] = std::uint8_t(std::min(k + 1, 255));
@@ -60,17 +69,42 @@ void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, co
     s = gate_tally{};
   }
   touched_.clear();
+  return gain;
+}
+
+void object_gate::go_plain() {
+  plain_left_ = 8u << std::min<unsigned>(plain_strikes_, 3);
+  plain_strikes_ = std::uint8_t(std::min(plain_strikes_ + 1, 255));
+}
+
+void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels,
+                         std::uint64_t frame_rays) {
+  if (!enabled()) return;
+  ++frame_;  // the frame now coming
+  counted_ = true;
+  const double gain = judge(tallies, moving, box_pixels, true);
   if (frame_rays == 0) return;
-  if (gain < plain_gain * (double(frame_rays) + std::max(0.0, gain))) {
-    plain_left_ = 8u << std::min<unsigned>(plain_strikes_, 3);
-    plain_strikes_ = std::uint8_t(std::min(plain_strikes_ + 1, 255));
-  } else {
+  if (gain < plain_gain * (double(frame_rays) + std::max(0.0, gain)))
+    go_plain();
+  else
     plain_strikes_ = 0;
-  }
+}
+
+bool object_gate::probe(const std::vector<gate_entry>& tallies, std::uint64_t rays, std::uint64_t bounded,
+                        std::uint64_t cast) {
+  if (!enabled()) return false;
+  // A view's probe pixels build their cells alone, so what builds cost is not judged
+  // here: the frame after, with every pixel counted, does that.
+  const double gain = judge(tallies, false, nullptr, false);
+  if (!(gain < plain_gain * (double(rays) + std::max(0.0, gain)))) return false;
+  go_plain();
+  allowance_wait_ = double(bounded) < allowance_share * double(bounded + cast) ? 8 : 0;
+  return true;
 }
 
 void object_gate::plain_done(std::uint64_t bounded, std::uint64_t cast) {
   plain_left_ -= plain_left_ > 0;
+  counted_ = false;
   ++frame_;  // objects' waits run on
   if (allowance_wait_ > 0) {
     --allowance_wait_;

@@ -14,6 +14,8 @@
 
 namespace epsray {
 
+struct pixel_result;  // interp/interp_shade.h
+
 // One object's counts over part of a frame.
 struct gate_tally {
   std::uint64_t fast = 0, span = 0, interp = 0;  // pixels served from its cells, by path
@@ -42,6 +44,12 @@ struct gate_weights {
 
 // The gain of an object's cells over a frame, in rays (negative: they cost more than they saved).
 double gate_gain(const gate_tally& t, bool moving, const gate_weights& wt = {});
+
+// What one pixel adds to the tally of the object it looked up: `own`, the rays it cast
+// itself (builds excluded). `reprojecting` (full mode): an interpolated pixel is counted
+// as the fast one it becomes once its cell is reprojected, or a cold frame (all
+// interpolated) would judge every object by a path it leaves after one frame.
+void gate_count(gate_tally& g, const pixel_result& r, std::uint64_t own, bool reprojecting);
 
 // An object is turned off when its gain is below -gate_margin rays per pixel it covered.
 constexpr double gate_margin = 0.5;
@@ -77,6 +85,18 @@ class object_gate {
   void update(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels,
               std::uint64_t frame_rays = 0);
   std::size_t objects_off() const;
+  // Does the coming frame, one with cells, follow none (a walk's first frame, the first
+  // after plain frames)? Then the gate has no counts of this view, and a probe of a sparse
+  // grid of its pixels (sched/frame_probe.h) tells whether its cells would pay before they
+  // are built for every pixel.
+  bool probe_due() const { return enabled() && !counted_; }
+  // The probe's tallies and the rays its pixels cast (builds excluded): when the gains of
+  // the objects it would keep on come under plain_gain, as update() judges a frame, the
+  // coming frame and the next are plain (true), with the waits update() would give. Those
+  // frames trace under the allowance when it bounded at least allowance_share of the rays
+  // it could cast on the probe's pixels (`bounded`, `cast`, as plain_done takes them).
+  bool probe(const std::vector<gate_entry>& tallies, std::uint64_t rays, std::uint64_t bounded,
+             std::uint64_t cast);
   // Is the coming frame plain (plain_gain)? plain_done() after rendering it so.
   bool plain() const { return plain_left_ > 0; }
   // Does a plain frame trace under the pixels' allowance (shade_within), or exactly? The
@@ -97,7 +117,12 @@ class object_gate {
   std::uint32_t plain_left_ = 0;          // plain frames still to come
   std::uint8_t plain_strikes_ = 0;        // times frames went plain in a row of low gains
   std::uint32_t allowance_wait_ = 0;      // exact plain frames before the allowance is tried again
-  std::vector<gate_tally> sum_;           // update's scratch
+  bool counted_ = false;                  // the last frame had cells and update() counted them
+  // Sums the tallies per object into sum_; the gain of those kept on, and (apply) turns
+  // off those that lost.
+  double judge(const std::vector<gate_entry>& tallies, bool moving, const float* box_pixels, bool apply);
+  void go_plain();
+  std::vector<gate_tally> sum_;           // judge's scratch
   std::vector<int> touched_;
 };
 

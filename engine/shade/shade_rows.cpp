@@ -19,16 +19,16 @@ void shade_rows_base(const world& w, const camera& cam, int y0, int y1, image& o
   st.tree = saved;
 }
 
+vec3 shade_pixel_within(const world& w, const camera& cam, int x, int y, float eps, trace_state& st) {
+  const ray r = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
+  ++st.counts.eye;
+  hit h;
+  return closest_hit(w, r, std::numeric_limits<float>::infinity(), h) ? shade_within(w, r, h, eps, st) : w.background;
+}
+
 void shade_rows_within(const world& w, const camera& cam, int y0, int y1, float eps, image& out, trace_state& st) {
-  for (int y = y0; y < y1; ++y) {
-    for (int x = 0; x < cam.width; ++x) {
-      const ray r = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
-      ++st.counts.eye;
-      hit h;
-      out.at(x, y) = closest_hit(w, r, std::numeric_limits<float>::infinity(), h) ? shade_within(w, r, h, eps, st)
-                                                                                  : w.background;
-    }
-  }
+  for (int y = y0; y < y1; ++y)
+    for (int x = 0; x < cam.width; ++x) out.at(x, y) = shade_pixel_within(w, cam, x, y, eps, st);
 }
 
 }  // namespace epsray
