@@ -376,6 +376,30 @@ p 4
   EXPECT_EQ(large_interp_big, large_interp_all) << "the large objects are not affected";
 }
 
+// A cell refused for a discontinuity by a build that could not defer (over the deferring
+// floor) and that the cost model does not split would be traced pixel by pixel; it is built
+// again leaving what its corners disagree on to per-pixel rays. With no cell small enough
+// to defer and no refused cell split, only those rebuilt cells defer.
+TEST(InterpMode, RefusedCellsThatAreNotSplitAreBuiltAgainWithDeferral) {
+  const world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/artroom.nff"));
+  const camera cam = make_camera(w.sc.view, 200, 150);
+  linetree_set trees(w.prim_bounds);
+  workers pool(2);
+  frame_params p;
+  p.mode = render_mode::interp;
+  p.interp.eps = 0.05f;
+  p.interp.defer_pixels = 0;
+  p.interp.failed_split_pixels = 1e9f;
+  p.trees = &trees;
+  const frame_result fr = render_frame(pool, w, cam, p);
+  EXPECT_GT(fr.pixels.deferred, 2000u) << "the floor's refused cells defer its reflection and shadow edges";
+  EXPECT_LT(fr.pixels.base, fr.pixels.deferred) << "and are not traced";
+  EXPECT_EQ(verify_frame(pool, w, cam, fr.img, 0.05f).violations, 0u);
+  // A second frame of the same view takes the cells as rebuilt: the same image.
+  const frame_result again = render_frame(pool, w, cam, p);
+  EXPECT_TRUE(test::same_pixels(fr.img, again.img));
+}
+
 TEST(InterpMode, EyeOnAFacepairPlaneDoesNotSplitCellsToTheDepthLimit) {
   // Before either face could bound a cell's box, every cell crossing the eye's plane looked
   // infinitely large and was split down to max_depth: 15 corner lines per pixel and 720 MB

@@ -47,6 +47,12 @@ std::uint16_t tree_rays(const ray_tree& t) {
   return std::uint16_t(std::min<size_t>(n, 65535));
 }
 
+// A refusal for a discontinuity by a build that could not defer: built again with deferral
+// when the cost model does not split the cell (descend).
+bool may_rebuild(const interpolant& ip) {
+  return ip.reason == cell_reason::discontinuity && !ip.could_defer && ip.shared;
+}
+
 bool strictly_inside(const lt_node& n, const float x[4]) {
   for (int i = 0; i < 4; ++i)
     if (!(x[i] > n.lo[i] && x[i] < n.hi[i])) return false;
@@ -62,6 +68,7 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
                                                bool terminal, bool defer, sample_cache& cache, trace_state& st,
                                                interp_scratch& scratch, bool predicate, int depth) {
   auto ip = std::make_unique<interpolant>();
+  ip->could_defer = defer;
   const material& m = w.sc.materials[size_t(w.info[size_t(prim)].material)];
   // Its texture terms are allocated only if the cell is kept: most builds fail.
   const bool textured = m.texture >= 0;
@@ -386,8 +393,10 @@ namespace {
     if (ip && cell_accurate(*ip, f.p.eps)) break;  // the common case once built: no cost model
     // A lookup already ended here in this frame, so this camera's cost model stops here
     // (it depends on the cell and the camera alone): no need to measure the cell again.
-    // Pixels along an edge mostly end in a few such cells, once per pixel.
-    if (ip && node->used.load(std::memory_order_relaxed) == f.trees->frame()) break;
+    // Pixels along an edge mostly end in a few such cells, once per pixel. (A refusal that
+    // may be built again with deferral, below, may have been replaced since ip was read:
+    // that one goes through the cost model, whose rebuild then finds the new record.)
+    if (ip && node->used.load(std::memory_order_relaxed) == f.trees->frame() && !may_rebuild(*ip)) break;
     // Children of a 16-way split cover a quarter of the cell's pixels, of a 4-way split half.
     const float pixels = cell_pixels(cam, lt.fp, *node);
     const bool can_split = node->depth < f.p.max_depth && pixels >= 4 * f.p.min_cell_pixels;
@@ -396,21 +405,23 @@ namespace {
       node = child_at(*node, subdivide(*node, split_all, f.trees->node_bytes()), x4);
       continue;
     }
-    if (!ip) {
-      const bool terminal = node->depth >= f.p.max_depth || pixels < 2 * f.p.min_cell_pixels;
-      // A shadow or secondary ray per pixel costs more than splitting a large cell, whose
-      // children mostly prove what it could not: only small cells defer.
-      const bool defer = pixels < f.p.defer_pixels;
+    const bool terminal = node->depth >= f.p.max_depth || pixels < 2 * f.p.min_cell_pixels;
+    // A shadow or secondary ray per pixel costs more than splitting a large cell, whose
+    // children mostly prove what it could not: only small cells defer.
+    auto build = [&](bool defer, const interpolant* old) {
       const std::uint64_t b0 = cycle_now(), r0 = st.counts.total();
       bool won = false;
-      ip = publish(*node,
-                   build_interpolant(w, prim, lt.fp, *node, terminal, defer, f.trees->samples(), st, scratch, true,
-                                     f.p.build_depth),
-                   f.trees->node_bytes(), &won);
+      const interpolant* made = republish(*node,
+                                          old,
+                                          build_interpolant(w, prim, lt.fp, *node, terminal, defer, f.trees->samples(),
+                                                            st, scratch, true, f.p.build_depth),
+                                          f.trees->node_bytes(), &won);
       st.build_ticks += cycle_now() - b0;
       st.build_rays += st.counts.total() - r0;
       st.builds += won;
-    }
+      return made;
+    };
+    if (!ip) ip = build(pixels < f.p.defer_pixels, nullptr);
     if (!cell_accurate(*ip, f.p.eps)) {
       const std::uint8_t axes = f.p.four_way ? ip->split : std::uint8_t(split_all);
       // Children of a cell that straddles a discontinuity or a silhouette rarely prove valid
@@ -422,6 +433,10 @@ namespace {
         node = child_at(*node, subdivide(*node, axes, f.trees->node_bytes()), x4);
         continue;
       }
+      // Not split: every pixel of it would be traced. A cell refused for a discontinuity by
+      // a build that could not defer (a larger cell's floor, or a resting camera's) is built
+      // again leaving to per-pixel rays what its corners disagree on.
+      if (may_rebuild(*ip)) ip = build(true, ip);
     }
     break;
   }

@@ -36,6 +36,7 @@ struct textured_terms {
 struct interpolant {
   cell_reason reason = cell_reason::valid;
   bool shared = false;     // a failure_record: owned by no node
+  bool could_defer = false;  // built with per-pixel rays allowed (build_interpolant's `defer`)
   std::uint8_t split = split_all;  // the axes worth halving when the cell is not accurate
   std::uint8_t deferred = 0;  // bit j: light j is shaded per pixel with a shadow ray, not
                               // interpolated (its visibility changes inside the cell)
@@ -58,7 +59,7 @@ struct interpolant {
 
 // Failed cells keep only why they failed and which axes to halve: one shared, immutable
 // record per (reason, split) instead of an interpolant of ~600 bytes each.
-const interpolant* failure_record(cell_reason r, std::uint8_t split);
+const interpolant* failure_record(cell_reason r, std::uint8_t split, bool could_defer = false);
 
 // The quadrilinear interpolant of 16 corner values at cell-relative coordinates t (each in
 // [0, 1]): halving the corners along a, then b, c and d, 15 lerps in all (the 16 weights

@@ -14,14 +14,18 @@ lt_node::~lt_node() {
   if (ip && !ip->shared) delete ip;
 }
 
-const interpolant* failure_record(cell_reason r, std::uint8_t split) {
+const interpolant* failure_record(cell_reason r, std::uint8_t split, bool could_defer) {
   static const auto records = [] {
-    std::array<std::array<interpolant, 16>, 5> all{};
+    std::array<std::array<std::array<interpolant, 2>, 16>, 5> all{};
     for (int i = 0; i < 5; ++i)
-      for (int k = 0; k < 16; ++k) all[size_t(i)][size_t(k)].reason = cell_reason(i), all[size_t(i)][size_t(k)].split = std::uint8_t(k), all[size_t(i)][size_t(k)].shared = true;
+      for (int k = 0; k < 16; ++k)
+        for (int d = 0; d < 2; ++d) {
+          interpolant& ip = all[size_t(i)][size_t(k)][size_t(d)];
+          ip.reason = cell_reason(i), ip.split = std::uint8_t(k), ip.shared = true, ip.could_defer = d != 0;
+        }
     return all;
   }();
-  return &records[size_t(r)][split & 15u];
+  return &records[size_t(r)][split & 15u][could_defer ? 1 : 0];
 }
 
 lt_node* subdivide(lt_node& n, std::uint8_t axes, std::atomic<std::size_t>* bytes) {
@@ -52,10 +56,16 @@ lt_node* subdivide(lt_node& n, std::uint8_t axes, std::atomic<std::size_t>* byte
 
 const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::atomic<std::size_t>* bytes,
                            bool* won) {
+  return republish(n, nullptr, std::move(made), bytes, won);
+}
+
+const interpolant* republish(lt_node& n, const interpolant* old, std::unique_ptr<interpolant> made,
+                             std::atomic<std::size_t>* bytes, bool* won) {
   if (won) *won = false;
-  interpolant* mine = made->reason == cell_reason::valid ? made.get()
-                                                          : const_cast<interpolant*>(failure_record(made->reason, made->split));
-  interpolant* expected = nullptr;
+  interpolant* mine = made->reason == cell_reason::valid
+                          ? made.get()
+                          : const_cast<interpolant*>(failure_record(made->reason, made->split, made->could_defer));
+  interpolant* expected = const_cast<interpolant*>(old);
   if (!n.interp.compare_exchange_strong(expected, mine, std::memory_order_acq_rel)) return expected;
   if (won) *won = true;
   if (mine == made.get()) {

@@ -86,6 +86,10 @@ lt_node* subdivide(lt_node& n, std::uint8_t axes = split_all, std::atomic<std::s
 // wins, so counting wins counts the cells built, whichever thread built them.
 const interpolant* publish(lt_node& n, std::unique_ptr<interpolant> made, std::atomic<std::size_t>* bytes = nullptr,
                            bool* won = nullptr);
+// The same in place of `old`, a shared failure record (so nothing is freed under a reader):
+// a refused cell built again under another cost model.
+const interpolant* republish(lt_node& n, const interpolant* old, std::unique_ptr<interpolant> made,
+                             std::atomic<std::size_t>* bytes = nullptr, bool* won = nullptr);
 
 // The linetrees of every primitive, six facepairs each, created on first use.
 class linetree_set {
