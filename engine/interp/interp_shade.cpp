@@ -406,8 +406,6 @@ namespace {
       continue;
     }
     const bool terminal = node->depth >= f.p.max_depth || pixels < 2 * f.p.min_cell_pixels;
-    // A shadow or secondary ray per pixel costs more than splitting a large cell, whose
-    // children mostly prove what it could not: only small cells defer.
     auto build = [&](bool defer, const interpolant* old) {
       const std::uint64_t b0 = cycle_now(), r0 = st.counts.total();
       bool won = false;
@@ -421,6 +419,8 @@ namespace {
       st.builds += won;
       return made;
     };
+    // A shadow or secondary ray per pixel costs more than splitting a large cell, whose
+    // children mostly prove what it could not: only small cells defer.
     if (!ip) ip = build(pixels < f.p.defer_pixels, nullptr);
     if (!cell_accurate(*ip, f.p.eps)) {
       const std::uint8_t axes = f.p.four_way ? ip->split : std::uint8_t(split_all);

@@ -36,6 +36,17 @@ void gate_count(gate_tally& g, const pixel_result& r, std::uint64_t own, bool re
   }
 }
 
+namespace {
+// plain_gain: the cells kept on saved too little of a plain frame's rays.
+bool saves_too_little(double gain, std::uint64_t rays) {
+  return gain < plain_gain * (double(rays) + std::max(0.0, gain));
+}
+// allowance_share: the allowance bounded too few of the rays it could cast.
+bool bounds_too_few(std::uint64_t bounded, std::uint64_t cast) {
+  return double(bounded) < allowance_share * double(bounded + cast);
+}
+}  // namespace
+
 void object_gate::resize(std::size_t prims) {
   off_until_.assign(prims, 0);
   strikes_.assign(prims, 0);
@@ -84,7 +95,7 @@ void object_gate::update(const std::vector<gate_entry>& tallies, bool moving, co
   counted_ = true;
   const double gain = judge(tallies, moving, box_pixels, true);
   if (frame_rays == 0) return;
-  if (gain < plain_gain * (double(frame_rays) + std::max(0.0, gain)))
+  if (saves_too_little(gain, frame_rays))
     go_plain();
   else
     plain_strikes_ = 0;
@@ -96,9 +107,9 @@ bool object_gate::probe(const std::vector<gate_entry>& tallies, std::uint64_t ra
   // A view's probe pixels build their cells alone, so what builds cost is not judged
   // here: the frame after, with every pixel counted, does that.
   const double gain = judge(tallies, false, nullptr, false);
-  if (!(gain < plain_gain * (double(rays) + std::max(0.0, gain)))) return false;
+  if (!saves_too_little(gain, rays)) return false;
   go_plain();
-  allowance_wait_ = double(bounded) < allowance_share * double(bounded + cast) ? 8 : 0;
+  allowance_wait_ = bounds_too_few(bounded, cast) ? 8 : 0;
   return true;
 }
 
@@ -108,7 +119,7 @@ void object_gate::plain_done(std::uint64_t bounded, std::uint64_t cast) {
   ++frame_;  // objects' waits run on
   if (allowance_wait_ > 0) {
     --allowance_wait_;
-  } else if (double(bounded) < allowance_share * double(bounded + cast)) {
+  } else if (bounds_too_few(bounded, cast)) {
     allowance_wait_ = 8;
   }
 }
