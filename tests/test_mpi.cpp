@@ -215,8 +215,9 @@ TEST_F(Mpi, InterruptedJobKeepsWholeFramesAndTheirStats) {
   // The 1,000 frames of the long walk on 2 ranks, stopped by SIGINT to mpirun once both
   // ranks have written frames (rank 1 starts near the middle). mpirun passes SIGTERM to
   // the ranks and kills them a second later; they stop at once, leaving the frame in hand.
+  // At 160x120 the walk takes seconds: at 64x48 it could end before the signal arrived.
   std::vector<std::string> argv = {mpiexec, "-q", "--oversubscribe", "-np", "2", EPSRAY_BINARY, "walk", artroom,
-                                   "--path", long_path, "--size", "64x48", "--threads", "1", "--out-dir", "out",
+                                   "--path", long_path, "--size", "160x120", "--threads", "1", "--out-dir", "out",
                                    "--pfm", "--stats", "s.json"};
   const pid_t pid = test::start_process(argv, work.path(), mpi_environment(), io.file("stdout"), io.file("stderr"));
   ASSERT_GT(pid, 0);
@@ -257,7 +258,7 @@ TEST_F(Mpi, InterruptedJobKeepsWholeFramesAndTheirStats) {
   for (const std::string& f : files) {
     EXPECT_EQ(f.find(".tmp"), std::string::npos) << f << " left behind";
     const image img = read_pfm((work.path() / "out" / f).string());  // throws if cut short
-    EXPECT_EQ(img.width, 64);
+    EXPECT_EQ(img.width, 160);
   }
 }
 
