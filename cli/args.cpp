@@ -186,6 +186,11 @@ const std::vector<flag_spec>& flags() {
        std::string("full: a planar reflector's reflections through the mirrored eye, from reprojected cells (default ") +
            (ip.mirror ? "on" : "off") + ")",
        [](cli_options& o, arg f, arg v) { o.mirror = on_off(f, v); }},
+      {"--light-cache", "on|off", ALL, false,
+       std::string("interp and full: test shadow rays against per-light lists of what may block them, kept for "
+                   "the whole walk; images are the same either way (default ") +
+           (ip.light_cache ? "on" : "off") + ")",
+       [](cli_options& o, arg f, arg v) { o.light_cache = on_off(f, v); }},
       {"--split", "4|16", ALL, false,
        std::string("split a refused cell along the axes the failure points at (4) or always all four (16) (default ") +
            (ip.four_way ? "4" : "16") + ")",

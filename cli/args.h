@@ -40,6 +40,7 @@ struct cli_options {
   bool object_gate = interp_params{}.object_gate;
   bool plain_frames = interp_params{}.plain_frames;
   bool mirror = interp_params{}.mirror;
+  bool light_cache = interp_params{}.light_cache;
   int span_segment = interp_params{}.span_segment;  // full: screen-space span segments; 0: none
   bool reproject_osmesa = false;  // full: draw last frame's cells with OSMesa, not the exact per-pixel test
   bool pipeline = false;  // walk, full: prepare each next frame's reprojection on a thread of its own

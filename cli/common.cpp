@@ -103,6 +103,7 @@ frame_params make_frame_params(const cli_options& o, linetree_set* trees, reproj
   fp.interp.object_gate = o.object_gate;
   fp.interp.plain_frames = o.plain_frames;
   fp.interp.mirror = o.mirror;
+  fp.interp.light_cache = o.light_cache;
   fp.interp.span_segment = o.span_segment;
   fp.trees = trees;
   fp.reproj = reproj;

@@ -22,6 +22,7 @@ frame_probe probe_frame(workers& pool, const interp_frame& f) {
     tbb::parallel_for(size_t(0), rows.size(), [&](size_t j) {
       frame_probe& row = rows[j];
       trace_state st, within;
+      st.lights = within.lights = f.lights;
       interp_scratch scratch;
       const int y = step / 2 + int(j) * step;
       for (int x = step / 2; x < cam.width; x += step, ++row.pixels) {

@@ -73,6 +73,7 @@ struct reprojection_frame {
 void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, const mirror_frame* mf, int lf_depth,
                        const tile& t, image& out, image* reasons, tile_totals& tot) {
   trace_state st;
+  st.lights = f.lights;
   interp_scratch scratch;
   mirror_use mirror;
   mirror.m = mf;
@@ -200,6 +201,10 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   std::vector<tile_totals> totals(tiles.size());
   std::vector<ray_tree_store> trees(p.keep_ray_trees ? tiles.size() : 0);
   interp_frame f{&w, p.trees, &cam, p.interp};
+  light_cache* lights = (p.mode == render_mode::interp || p.mode == render_mode::full) && f.p.light_cache && p.trees
+                            ? p.trees->lights(w)
+                            : nullptr;
+  if (lights && lights->in_use()) f.lights = lights;
   if (p.camera_moving) {
     f.p.min_cell_pixels = std::max(f.p.min_cell_pixels, f.p.moving_min_cell_pixels);
     f.p.failed_split_pixels = std::max(f.p.failed_split_pixels, f.p.moving_failed_split_pixels);
@@ -382,6 +387,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   out.shade = run_tiles(pool, pool.history().order(tiles.size(), p.order), [&](size_t i) {
     const std::uint64_t c0 = cycle_now();
     trace_state st;
+    st.lights = f.lights;  // a plain frame's too; null in base mode
     switch (tile_mode) {
       case render_mode::base:
         if (plain_allowance)
@@ -474,6 +480,8 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     p.trees->gate.update(entries, p.camera_moving, box_px.data(), f.p.plain_frames ? out.rays.total() : 0);
     out.objects_off = p.trees->gate.objects_off();
   }
+  if (lights)
+    lights->next_frame(f.lights != nullptr, out.rays.shadow_asked, out.rays.shadow_unbuilt, out.rays.shadow_listed);
   if (p.trees) p.trees->evict();  // between frames: nothing else touches the trees now
   for (const ray_tree_store& t : trees) out.trees.append(t);
   const auto t1 = std::chrono::steady_clock::now();
@@ -481,7 +489,8 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   out.ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
   // After the clock: measuring linetree memory walks every node.
   out.linetree_bytes = p.trees ? p.trees->bytes() : 0;
-  out.memory_bytes = out.img.pixels.capacity() * sizeof(glm::vec3) + out.trees.bytes() + out.linetree_bytes;
+  out.memory_bytes = out.img.pixels.capacity() * sizeof(glm::vec3) + out.trees.bytes() + out.linetree_bytes +
+                     (p.trees ? p.trees->light_bytes() : 0);
   return out;
 }
 

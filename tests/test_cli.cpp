@@ -186,6 +186,7 @@ INSTANTIATE_TEST_SUITE_P(
         bad_flags{"tile_order_unknown", render_args({"--tile-order", "random"}), "--tile-order"},
         bad_flags{"object_gate_maybe", render_args({"--object-gate", "maybe"}), "--object-gate"},
         bad_flags{"plain_frames_yes", render_args({"--plain-frames", "yes"}), "--plain-frames"},
+        bad_flags{"light_cache_maybe", render_args({"--light-cache", "maybe"}), "--light-cache"},
         bad_flags{"mirror_yes", render_args({"--mirror", "yes"}), "--mirror"},
         bad_flags{"unknown_option", render_args({"--bogus"}), "--bogus"},
         bad_flags{"frame_without_path", render_args({"--frame", "0"}), "--frame"},

@@ -120,6 +120,8 @@ world make_world(scene s) {
   }
   w.scene_prims = w.shapes.size();
   add_face_prims(s, w);
+  w.hit_boxes.reserve(w.prim_bounds.size());
+  for (const bounds& b : w.prim_bounds) w.hit_boxes.push_back(with_rounding_margin(b));
   w.shape_of.resize(s.prims.size());
   for (size_t i = 0; i < w.info.size(); ++i) w.shape_of[size_t(w.info[i].source)] = int(i);
   for (const light& l : s.lights) {

@@ -25,6 +25,9 @@ struct world {
   std::vector<shape> shapes;  // indexed by primitive id (BVH leaf order)
   std::vector<shape_info> info;
   std::vector<bounds> prim_bounds;  // per primitive id
+  // prim_bounds grown by the rounding margin, as the BVH's slot boxes are: every hit a
+  // primitive's own test finds lies inside, so a list of candidates may test it first.
+  std::vector<bounds> hit_boxes;
   // BVH leaves hold slots: a primitive split into pieces has one slot per piece.
   std::vector<std::uint32_t> slot_prim;  // slot -> primitive id
   std::vector<bounds> slot_bounds;       // slot -> box of that piece

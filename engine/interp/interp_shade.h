@@ -53,6 +53,9 @@ struct interp_params {
   // walk it serves 64% of the floor's deferred reflections from reprojected cells with zero
   // pixels over epsilon, but took 1.014 of the time at 800x600 (perf/pair.py, one thread).
   bool mirror = false;
+  // Interp and full: shadow rays tested against the light cache's lists of what may block
+  // them (accel/light_cache.h), which give the BVH's answer; false: each walks the BVH.
+  bool light_cache = true;
 };
 
 // How a pixel got its radiance, and why an interpolant was not used.
@@ -88,6 +91,9 @@ struct interp_frame {
   // Per primitive, nonzero when the object gate traces it this frame (also set in small);
   // full mode does not reproject its cells. Null: none.
   const std::uint8_t* off = nullptr;
+  // Interp and full: the trees' light cache (accel/light_cache.h) for every shadow ray the
+  // frame casts outside builds; null: the BVH walks them all.
+  const light_cache* lights = nullptr;
 };
 
 // Marks the primitives whose boxes cover fewer than min_pixels pixels of the image from

@@ -106,6 +106,13 @@ linetree_set::~linetree_set() {
     for (auto& t : trees_[i]) delete t.load(std::memory_order_relaxed);
 }
 
+light_cache* linetree_set::lights(const world& w) {
+  if (!lights_) lights_ = std::make_unique<light_cache>(w);
+  return lights_.get();
+}
+
+size_t linetree_set::light_bytes() const { return lights_ ? lights_->bytes() : 0; }
+
 linetree& linetree_set::get(int prim, int fi) {
   std::atomic<linetree*>& slot = trees_[size_t(prim)][size_t(fi)];
   linetree* t = slot.load(std::memory_order_acquire);

@@ -13,6 +13,7 @@
 #include <memory>
 #include <vector>
 
+#include "accel/light_cache.h"
 #include "interp/interpolant.h"
 #include "interp/line_space.h"
 #include "interp/object_gate.h"
@@ -126,8 +127,14 @@ class linetree_set {
   // Which objects are traced with no linetree for now, decided from each frame's counts
   // (object_gate.h); kept with the trees, whose frames it follows.
   object_gate gate;
+  // The light cache of the world these trees serve (accel/light_cache.h), made by the first
+  // frame that asks: shadows do not depend on the camera, so it lives as long as the trees.
+  // Its bytes are not in bytes(): the memory budget evicts cells, never its lists. Not concurrent.
+  light_cache* lights(const world& w);
+  size_t light_bytes() const;
 
  private:
+  std::unique_ptr<light_cache> lights_;
   std::vector<bounds> bounds_;  // a copy: small, and no lifetime tie to the world
   std::vector<std::int8_t> flat_;  // flat_axis of each
   size_t budget_ = 0;

@@ -13,14 +13,41 @@ namespace {
 // Unit d and nf give a unit reflection (whitted.md 4); no normalize on the hot path.
 vec3 reflect_dir(vec3 d, vec3 nf) { return d - 2 * glm::dot(d, nf) * nf; }
 
-int shadow_blocker(const world& w, const ray& r, float dist, size_t light, trace_state& st) {
+// The primitive a shadow ray leaves that it can never meet again (-1: none or unsure): a
+// flat one, left towards the light's side by delta, which is every shadow ray (light_at
+// casts none for a light behind the surface). A patch is not: its rays leave along the
+// interpolated normal, which may point through its own plane. The cells' shadow lists
+// leave it out by the same rule (error_predicate.cpp, cannot_reenter).
+inline int left_flat(const world& w, int prim) {
+  const shape_kind k = w.shapes[size_t(prim)].kind;
+  const bool flat = k == shape_kind::triangle || k == shape_kind::polygon || k == shape_kind::disk;
+  return flat && !w.info[size_t(prim)].patch ? prim : -1;
+}
+
+// The light cache's answer (accel/light_cache.h), else the BVH's. Out of line: base mode,
+// the reference, has no cache and keeps its shading loop as it was.
+[[gnu::noinline]] int listed_blocker_of(const world& w, const ray& r, float dist, size_t light, int prim,
+                                        trace_state& st) {
+  ++st.counts.shadow_asked;
+  int b = st.lights->blocker(light, r, dist, left_flat(w, prim),
+                             light < size_t(shadow_cache_lights) ? &st.light_hints[light] : nullptr);
+  if (b == light_cache::not_listed || b == light_cache::not_built) {
+    st.counts.shadow_unbuilt += b == light_cache::not_built;
+    return first_blocker(w, r, dist);
+  }
+  ++st.counts.shadow_listed;
+  return b;
+}
+
+// `prim`: the primitive the shadow ray leaves.
+int shadow_blocker(const world& w, const ray& r, float dist, size_t light, int prim, trace_state& st) {
   const bool cached = !st.tree && light < size_t(shadow_cache_lights);
   if (cached) {
     int last = st.last_blocker[light];
     float t;
     if (last >= 0 && hit_shape(w.shapes[size_t(last)], w.polys, r, dist, t)) return last;
   }
-  int b = first_blocker(w, r, dist);
+  const int b = st.lights && !st.tree ? listed_blocker_of(w, r, dist, light, prim, st) : first_blocker(w, r, dist);
   if (cached) st.last_blocker[light] = b;
   return b;
 }
@@ -48,8 +75,9 @@ inline vec3 lit_term(const world& w, const material& m, vec3 kd_c, size_t j, flo
 struct bvh_blocker {
   const world& w;
   size_t j;
+  int prim;  // the primitive the ray leaves
   trace_state& st;
-  int operator()(const ray& r, float dist) const { return shadow_blocker(w, r, dist, j, st); }
+  int operator()(const ray& r, float dist) const { return shadow_blocker(w, r, dist, j, prim, st); }
 };
 
 // The shadow ray from `above` to light j: blocker_of(ray, dist) gives some primitive it
@@ -121,8 +149,8 @@ inline bool skip_secondary(const world& w, float k, int depth, trace_state& st, 
 }
 
 inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above, vec3 nf, vec3 v, size_t j,
-                           trace_state& st) {
-  return light_at(w, m, p, above, nf, v, j, st, bvh_blocker{w, j, st});
+                           int prim, trace_state& st) {
+  return light_at(w, m, p, above, nf, v, j, st, bvh_blocker{w, j, prim, st});
 }
 
 // A secondary ray's radiance times k, with the path weight scaled by k while it is traced
@@ -217,11 +245,11 @@ vec3 shade_hit(const world& w, const ray& r, const hit& h, int depth, trace_stat
   for (size_t j = 0; j < nl; ++j) {
     if (may_skip) {
       const allowed_light al =
-          light_within(w, m, kd_c, sf.p, above, nf, v, j, st.path_weight, *st.error_left, st, bvh_blocker{w, j, st});
+          light_within(w, m, kd_c, sf.p, above, nf, v, j, st.path_weight, *st.error_left, st, bvh_blocker{w, j, h.prim, st});
       L += al.L, *st.error_left -= al.cost;
       continue;
     }
-    const light_term lt = light_at(w, m, sf.p, above, nf, v, j, st);
+    const light_term lt = light_at(w, m, sf.p, above, nf, v, j, h.prim, st);
     if (lt.status == light_lit) {
       L += lit_term(w, m, kd_c, j, lt.ndl, lt.spec);
       if (split) tex_factor += w.light_power[j] * (m.kd * m.color * lt.ndl);
@@ -273,7 +301,8 @@ struct listed_blocker {
     for (int i = 0; i < cands.count; ++i) {
       float t;
       const int id = cands.prims[i];
-      if (hit_shape(w.shapes[size_t(id)], w.polys, sr, dist, t)) return id;
+      const bounds& b = w.hit_boxes[size_t(id)];  // first, as the BVH does: most candidates miss
+      if (hit_bounds(b.lo, b.hi, sr, dist, t) && hit_shape(w.shapes[size_t(id)], w.polys, sr, dist, t)) return id;
     }
     return -1;
   }
@@ -291,7 +320,7 @@ inline light_term light_at_listed(const world& w, const material& m, vec3 p, vec
 // that fits; a secondary ray that does not is traced with what is left
 // (trace_state::error_left). Adds the error it allowed to `spent`. Returns its terms added
 // to `start`, in shade_hit's order, so that where nothing fits it is shade_hit's sum bit for bit.
-vec3 terms_within(const world& w, const material& m, const ray& r, const surface& sf, vec3 nf, bool entering,
+vec3 terms_within(const world& w, const material& m, const ray& r, int prim, const surface& sf, vec3 nf, bool entering,
                   vec3 kd_c, std::uint32_t lights, bool every, std::uint32_t rays, const shadow_candidates* cands,
                   trace_state& st, vec3 start, vec3 known, vec3 err, float eps, vec3& spent) {
   const vec3 v = -r.d, above = sf.p + w.delta * nf;
@@ -307,7 +336,7 @@ vec3 terms_within(const world& w, const material& m, const ray& r, const surface
     const bool listed = cands && j < size_t(max_deferred_lights) && (cands->lights >> j & 1);
     const allowed_light al =
         listed ? light_within(w, m, kd_c, sf.p, above, nf, v, j, 1.0f, room, st, listed_blocker{w, *cands})
-               : light_within(w, m, kd_c, sf.p, above, nf, v, j, 1.0f, room, st, bvh_blocker{w, j, st});
+               : light_within(w, m, kd_c, sf.p, above, nf, v, j, 1.0f, room, st, bvh_blocker{w, j, prim, st});
     L += al.L, spent += al.cost, room -= al.cost;
   }
   const vec3 range = w.rad.hi[2] - w.rad.lo[2], mid = 0.5f * (w.rad.hi[2] + w.rad.lo[2]);
@@ -339,7 +368,7 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& s
   const vec3 kd_c = m.kd * (m.texture >= 0 ? m.color * texel : m.color);
   if (allow && !st.tree) {
     allow->spent = vec3{0};
-    return terms_within(w, m, r, sf, nf, entering, kd_c, lights, false, rays, cands, st, vec3{0}, allow->known,
+    return terms_within(w, m, r, h.prim, sf, nf, entering, kd_c, lights, false, rays, cands, st, vec3{0}, allow->known,
                         allow->err, allow->eps, allow->spent);
   }
   vec3 L{0};
@@ -349,7 +378,7 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& s
       if (!(lights >> j & 1)) continue;
       const bool listed = cands && (cands->lights >> j & 1);
       const light_term lt = listed ? light_at_listed(w, m, sf.p, above, nf, -r.d, j, *cands, st)
-                                   : light_at(w, m, sf.p, above, nf, -r.d, j, st);
+                                   : light_at(w, m, sf.p, above, nf, -r.d, j, h.prim, st);
       if (lt.status == light_lit) L += lit_term(w, m, kd_c, j, lt.ndl, lt.spec);
     }
   }
@@ -373,7 +402,7 @@ vec3 shade_within(const world& w, const ray& r, const hit& h, float eps, trace_s
   const vec3 kd_c = m.kd * colour;
   const vec3 L = w.ambient * kd_c;
   vec3 spent{0};
-  return terms_within(w, m, r, sf, nf, entering, kd_c, 0, true, deferred_reflect | deferred_refract, nullptr, st, L, L,
+  return terms_within(w, m, r, h.prim, sf, nf, entering, kd_c, 0, true, deferred_reflect | deferred_refract, nullptr, st, L, L,
                       vec3{0}, eps, spent);
 }
 

@@ -1,0 +1,244 @@
+// The light cache (accel/light_cache.h): every shadow ray it answers gets the BVH walk's
+// answer, from any scene, any surface point and any thread; images do not change with it;
+// its trial frames build little and it rests where its lists answer few rays.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "accel/light_cache.h"
+#include "scene/camera.h"
+#include "scene/nff.h"
+#include "shade/surface.h"
+#include "test_util.h"
+#include "test_walk.h"
+
+namespace epsray {
+namespace {
+
+using test::uniform;
+using test::unit_vec;
+
+std::string source(const std::string& rel) { return std::string(EPSRAY_SOURCE_DIR) + "/" + rel; }
+
+// A shadow ray as the tracer casts it (whitted.cpp, light_at): from a surface point lifted
+// by delta along the normal facing the incoming ray, towards a light in front of it.
+struct shadow_query {
+  ray r;
+  float dist = 0;
+  size_t light = 0;
+  int self = -1;  // the flat primitive it leaves, as shadow_blocker passes it
+};
+
+// Surface points hit by random rays from anywhere in the box (and random points of the box,
+// on no surface), each with its shadow rays to every light in front of it.
+std::vector<shadow_query> queries(const world& w, int rays, unsigned seed) {
+  std::mt19937 g(seed);
+  const vec3 lo = w.box.lo, hi = w.box.hi;
+  std::vector<shadow_query> out;
+  for (int i = 0; i < rays; ++i) {
+    const vec3 o{uniform(g, lo.x, hi.x), uniform(g, lo.y, hi.y), uniform(g, lo.z, hi.z)};
+    const ray r = make_ray(o, unit_vec(g));
+    vec3 above = o;
+    vec3 nf{0};
+    int self = -1;
+    hit h;
+    const bool on_surface = i % 8 != 0 && closest_hit(w, r, INFINITY, h);
+    if (on_surface) {
+      const surface sf = surface_at(w, h.prim, r, h.t);
+      nf = glm::dot(sf.ng, r.d) < 0 ? sf.ns : -sf.ns;
+      above = sf.p + w.delta * nf;
+      const shape_kind k = w.shapes[size_t(h.prim)].kind;
+      const bool flat = k == shape_kind::triangle || k == shape_kind::polygon || k == shape_kind::disk;
+      if (flat && !w.info[size_t(h.prim)].patch) self = h.prim;
+    }
+    for (size_t j = 0; j < w.light_pos.size(); ++j) {
+      if (on_surface) {
+        const vec3 p = above - w.delta * nf;
+        if (!(glm::dot(nf, safe_normalize(w.light_pos[j] - p)) > 0)) continue;  // behind: no shadow ray
+      }
+      const vec3 so = w.light_pos[j] - above;
+      const float dist = safe_length(so);
+      if (!(dist > 0)) continue;
+      out.push_back({make_ray(above, so / dist), dist, j, self});
+    }
+  }
+  return out;
+}
+
+// A cache past its trial frame: every node may be built.
+void end_trial(light_cache& lc) { lc.next_frame(true, 10000, 0, 10000); }
+
+struct agreement {
+  size_t answered = 0, asked = 0;
+};
+
+// Every answer a list gives is the BVH's: lit exactly where the BVH finds no blocker, and a
+// blocker the ray really meets.
+agreement expect_bvh_answers(const world& w, const light_cache& lc, const std::vector<shadow_query>& qs,
+                             const std::string& what) {
+  std::vector<light_hint> hints(w.light_pos.size());
+  agreement a;
+  int wrong = 0;
+  for (const shadow_query& q : qs) {
+    const int got = lc.blocker(q.light, q.r, q.dist, q.self, &hints[q.light]);
+    ++a.asked;
+    if (got == light_cache::not_listed || got == light_cache::not_built) continue;
+    ++a.answered;
+    const bool bvh_blocked = first_blocker(w, q.r, q.dist) >= 0;
+    float t;
+    const bool real = got < 0 || hit_shape(w.shapes[size_t(got)], w.polys, q.r, q.dist, t);
+    if ((got >= 0) != bvh_blocked || !real) {
+      if (++wrong <= 5)
+        ADD_FAILURE() << what << ": light " << q.light << " from (" << q.r.o.x << ", " << q.r.o.y << ", " << q.r.o.z
+                      << "): list says " << got << ", BVH says " << (bvh_blocked ? "blocked" : "lit");
+    }
+  }
+  EXPECT_EQ(wrong, 0) << what;
+  return a;
+}
+
+TEST(LightCache, AnswersAsTheBvhDoesOnTheRepositoryScenes) {
+  std::vector<std::string> scenes = {"scenes/artroom.nff", "scenes/tests/shapes.nff", "scenes/tests/glass.nff",
+                                     "scenes/tests/mirror.nff"};
+  for (int i = 0; i < 8; ++i) scenes.push_back("scenes/random/random-s5-0" + std::to_string(i) + ".nff");
+  for (const std::string& s : scenes) {
+    const world w = make_world(load_scene(source(s)));
+    light_cache lc(w);
+    end_trial(lc);
+    const agreement a = expect_bvh_answers(w, lc, queries(w, 3000, 7), s);
+    EXPECT_GT(a.asked, 1000u) << s;
+    // Lists must answer most of them, or this test says nothing of them.
+    EXPECT_GT(a.answered, a.asked / 2) << s;
+  }
+}
+
+class LightCacheSpd : public testing::TestWithParam<const char*> {};
+
+TEST_P(LightCacheSpd, AnswersAsTheBvhDoes) {
+  EPSRAY_REQUIRE_SPD(GetParam());
+  const world w = make_world(load_scene(test::spd_scene(GetParam()).string()));
+  light_cache lc(w);
+  end_trial(lc);
+  const agreement a = expect_bvh_answers(w, lc, queries(w, 1500, 11), GetParam());
+  EXPECT_GT(a.asked, 500u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, LightCacheSpd,
+                         testing::Values("balls-s3", "gears-s2", "mount-s4", "rings-s3", "teapot-s6", "tetra-s4"),
+                         test::spd_param_name);
+
+TEST(LightCache, ConcurrentQueriesAgreeWithTheBvh) {
+  // Four threads build and read the same nodes at once (TSan runs this one).
+  const world w = make_world(load_scene(source("scenes/artroom.nff")));
+  light_cache lc(w);
+  end_trial(lc);
+  const std::vector<shadow_query> qs = queries(w, 1500, 3);
+  std::vector<int> reference(qs.size());
+  for (size_t i = 0; i < qs.size(); ++i) reference[i] = first_blocker(w, qs[i].r, qs[i].dist) >= 0;
+  std::vector<int> wrong(4, 0);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      std::vector<light_hint> hints(w.light_pos.size());
+      for (size_t k = 0; k < qs.size(); ++k) {
+        const size_t i = (k * 7 + size_t(t) * 131) % qs.size();  // each thread its own order
+        const shadow_query& q = qs[i];
+        const int got = lc.blocker(q.light, q.r, q.dist, q.self, &hints[q.light]);
+        if (got == light_cache::not_listed || got == light_cache::not_built) continue;
+        wrong[size_t(t)] += (got >= 0) != (reference[i] != 0);
+      }
+    });
+  }
+  for (std::thread& th : threads) th.join();
+  for (int t = 0; t < 4; ++t) EXPECT_EQ(wrong[size_t(t)], 0) << "thread " << t;
+}
+
+TEST(LightCache, ATrialFrameBuildsLittleAndThenEverything) {
+  const world w = make_world(load_scene(source("scenes/artroom.nff")));
+  light_cache lc(w);
+  const std::vector<shadow_query> qs = queries(w, 20000, 5);
+  size_t unbuilt = 0;
+  for (const shadow_query& q : qs) unbuilt += lc.blocker(q.light, q.r, q.dist, q.self, nullptr) == light_cache::not_built;
+  // At most trial_builds builds, each splitting into at most 8 nodes.
+  EXPECT_LE(lc.nodes(), size_t(8 * light_cache::trial_builds));
+  EXPECT_GT(unbuilt, 0u);
+  end_trial(lc);
+  unbuilt = 0;
+  for (const shadow_query& q : qs) unbuilt += lc.blocker(q.light, q.r, q.dist, q.self, nullptr) == light_cache::not_built;
+  EXPECT_EQ(unbuilt, 0u);  // every origin lies in the box
+}
+
+TEST(LightCache, RestsWhereItsListsAnswerFewRaysAndTriesAgain) {
+  const world w = make_world(load_scene(source("scenes/tests/shapes.nff")));
+  light_cache lc(w);
+  EXPECT_TRUE(lc.in_use());
+  lc.next_frame(true, 10000, 0, 9000);  // lists answered 90%: kept
+  EXPECT_TRUE(lc.in_use());
+  lc.next_frame(true, 10000, 2000, 5000);  // 5000 of the 8000 that found a leaf: under 3/4
+  int rested = 0;
+  while (!lc.in_use()) lc.next_frame(false, 0, 0, 0), ++rested;
+  EXPECT_EQ(rested, 8);
+  lc.next_frame(true, 10000, 0, 100);  // still few: twice as long
+  rested = 0;
+  while (!lc.in_use()) lc.next_frame(false, 0, 0, 0), ++rested;
+  EXPECT_EQ(rested, 16);
+  lc.next_frame(true, 500, 0, 0);  // too few rays to judge: kept
+  EXPECT_TRUE(lc.in_use());
+}
+
+TEST(LightCache, NoLightsMeansNoLists) {
+  const world w = test::world_from_text("v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 8\n"
+                                        "b 0 0 0\nf 1 1 1 1 0 0 0 0\ns 0 0 0 1\n");
+  light_cache lc(w);
+  end_trial(lc);
+  const ray r = make_ray(vec3(0, 0, 2), vec3(0, 0, 1));
+  EXPECT_EQ(lc.blocker(0, r, 1, -1, nullptr), light_cache::not_built);
+  EXPECT_EQ(lc.bytes(), 0u);
+}
+
+// Full and interp walks give the same images with the cache as without, and the cache
+// answers shadow rays in them.
+void expect_same_walk(render_mode mode) {
+  const world w = make_world(load_scene(source("scenes/artroom.nff")));
+  auto walk = [&](bool lists) {
+    frame_params p;
+    p.mode = mode;
+    p.interp.light_cache = lists;
+    p.interp.plain_frames = false;
+    // One thread: with more, which pixel builds a cell (and so casts its corners' rays) is a race.
+    return test::verified_walk(w, p, 4, 1, false, [&](int i) {
+      camera_view v = w.sc.view;
+      v.from.x += 0.05f * float(i), v.at.x += 0.05f * float(i);
+      return make_camera(v, 120, 90);
+    });
+  };
+  const std::vector<frame_result> with = walk(true), without = walk(false);
+  std::uint64_t listed = 0;
+  for (size_t k = 0; k < with.size(); ++k) {
+    EXPECT_TRUE(test::same_pixels(with[k].img, without[k].img)) << "frame " << k;
+    EXPECT_EQ(with[k].rays.shadow, without[k].rays.shadow) << "frame " << k;
+    EXPECT_EQ(without[k].rays.shadow_asked, 0u);
+    listed += with[k].rays.shadow_listed;
+  }
+  EXPECT_GT(listed, 0u);
+}
+
+TEST(LightCache, FullWalkImagesDoNotChange) { expect_same_walk(render_mode::full); }
+TEST(LightCache, InterpWalkImagesDoNotChange) { expect_same_walk(render_mode::interp); }
+
+TEST(LightCache, BaseModeNeverAsks) {
+  const world w = make_world(load_scene(source("scenes/artroom.nff")));
+  frame_params p;
+  p.mode = render_mode::base;
+  const std::vector<frame_result> frames = test::verified_walk(w, p, 2, 2, false, [&](int) {
+    return make_camera(w.sc.view, 64, 48);
+  });
+  for (const frame_result& fr : frames) EXPECT_EQ(fr.rays.shadow_asked, 0u);
+}
+
+}  // namespace
+}  // namespace epsray
