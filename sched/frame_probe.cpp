@@ -30,7 +30,7 @@ frame_probe probe_frame(workers& pool, const interp_frame& f) {
         const pixel_result r = shade_pixel_interp(f, x, y, st, scratch);
         const std::uint64_t own = st.counts.total() - st.build_rays - before;
         row.own_rays += own;
-        const int prim = r.cell.ip ? scene_prim_of(*f.w, r.cell.prim) : r.gate_prim;
+        const int prim = tallied_prim(*f.w, r);
         if (prim < 0) continue;
         gate_entry e{prim, {}};
         gate_count(e.t, r, own, true);

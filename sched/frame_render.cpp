@@ -95,7 +95,7 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, cons
   std::uint64_t rays_before = 0, builds_before = 0;
   auto gate_pixel = [&](const pixel_result& r) {
     const std::uint64_t own = st.counts.total() - st.build_rays - rays_before;
-    const int prim = r.cell.ip ? scene_prim_of(*f.w, r.cell.prim) : r.gate_prim;
+    const int prim = tallied_prim(*f.w, r);
     if (prim < 0) return;
     gate_tally& g = tally(prim);
     g.builds += st.builds - builds_before;

@@ -119,6 +119,12 @@ struct pixel_result {
   int gate_prim = -1;
 };
 
+// The object the gate charges a pixel to (object_gate.h): its cell's object (a box for a
+// face's cell), else the primitive it looked up; -1: none.
+inline int tallied_prim(const world& w, const pixel_result& r) {
+  return r.cell.ip ? scene_prim_of(w, r.cell.prim) : r.gate_prim;
+}
+
 pixel_result shade_pixel_interp(const interp_frame& f, int x, int y, trace_state& st, interp_scratch& scratch,
                                 mirror_use* mu = nullptr);
 
