@@ -51,9 +51,7 @@ std::vector<shadow_query> queries(const world& w, int rays, unsigned seed) {
       const surface sf = surface_at(w, h.prim, r, h.t);
       nf = glm::dot(sf.ng, r.d) < 0 ? sf.ns : -sf.ns;
       above = sf.p + w.delta * nf;
-      const shape_kind k = w.shapes[size_t(h.prim)].kind;
-      const bool flat = k == shape_kind::triangle || k == shape_kind::polygon || k == shape_kind::disk;
-      if (flat && !w.info[size_t(h.prim)].patch) self = h.prim;
+      if (cannot_reenter(w.shapes[size_t(h.prim)].kind, false, w.info[size_t(h.prim)].patch)) self = h.prim;
     }
     for (size_t j = 0; j < w.light_pos.size(); ++j) {
       if (on_surface) {

@@ -13,11 +13,8 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
-#include <vector>
 
 #include "accel/world.h"
-#include "geom/bounds.h"
-#include "geom/ray.h"
 
 namespace epsray {
 

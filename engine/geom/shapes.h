@@ -220,6 +220,18 @@ inline vec3 box_face_normal(const box_geom& g, const ray& r) {
   return k > 0 ? *ax[k - 1] : -*ax[-k - 1];
 }
 
+// Can a segment leaving primitive q's surface (towards its facing side) meet q again?
+// Never for a plane; never for a convex solid left from the outside. An open cone is the
+// side of a convex frustum, so the same holds for it.
+// A patch is not: its rays leave along the interpolated shading normal, which may point
+// through its own plane, so a shadow or reflected ray may meet the patch itself (the base
+// tracer then finds it blocked by its own surface).
+inline bool cannot_reenter(shape_kind k, bool from_outside, bool patch) {
+  if (patch) return false;
+  if (k == shape_kind::triangle || k == shape_kind::polygon || k == shape_kind::disk) return true;
+  return (k == shape_kind::sphere || k == shape_kind::box || k == shape_kind::cone) && from_outside;
+}
+
 inline bool hit_shape(const shape& s, const polygon_data& pd, const ray& r, float tmax, float& t) {
   switch (s.kind) {
     case shape_kind::sphere: return hit_sphere(s.sphere, r, tmax, t);

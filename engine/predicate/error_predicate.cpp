@@ -22,18 +22,6 @@ using namespace family;
 // deferred (evaluator::defer_loose_lights).
 constexpr double loose_light_share = 0.05;
 
-// Can a segment leaving primitive q's surface (towards its facing side) meet q again?
-// Never for a plane; never for a convex solid left from the outside. An open cone is the
-// side of a convex frustum, so the same holds for it.
-// A patch is not: its rays leave along the interpolated shading normal, which may point
-// through its own plane, so a shadow or reflected ray may meet the patch itself (the base
-// tracer then finds it blocked by its own surface).
-bool cannot_reenter(shape_kind k, bool from_outside, bool patch) {
-  if (patch) return false;
-  if (k == shape_kind::triangle || k == shape_kind::polygon || k == shape_kind::disk) return true;
-  return (k == shape_kind::sphere || k == shape_kind::box || k == shape_kind::cone) && from_outside;
-}
-
 
 struct evaluator {
   const world& w;

@@ -14,14 +14,10 @@ namespace {
 vec3 reflect_dir(vec3 d, vec3 nf) { return d - 2 * glm::dot(d, nf) * nf; }
 
 // The primitive a shadow ray leaves that it can never meet again (-1: none or unsure): a
-// flat one, left towards the light's side by delta, which is every shadow ray (light_at
-// casts none for a light behind the surface). A patch is not: its rays leave along the
-// interpolated normal, which may point through its own plane. The cells' shadow lists
-// leave it out by the same rule (error_predicate.cpp, cannot_reenter).
+// flat one (cannot_reenter whichever side it is left from), left towards the light's side
+// by delta, which is every shadow ray (light_at casts none for a light behind the surface).
 inline int left_flat(const world& w, int prim) {
-  const shape_kind k = w.shapes[size_t(prim)].kind;
-  const bool flat = k == shape_kind::triangle || k == shape_kind::polygon || k == shape_kind::disk;
-  return flat && !w.info[size_t(prim)].patch ? prim : -1;
+  return cannot_reenter(w.shapes[size_t(prim)].kind, false, w.info[size_t(prim)].patch) ? prim : -1;
 }
 
 // The light cache's answer (accel/light_cache.h), else the BVH's. Out of line: base mode,
