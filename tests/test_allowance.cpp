@@ -8,6 +8,8 @@
 
 #include "scene/camera.h"
 #include "scene/nff.h"
+#include "shade/surface.h"
+#include "shade/texture.h"
 #include "shade/whitted.h"
 #include "test_util.h"
 
@@ -161,6 +163,46 @@ TEST(Allowance, AWeakReflectionIsBoundedWithoutItsRay) {
   EXPECT_LT(loose.within.reflect, loose.exact.reflect / 2);
   EXPECT_EQ(tight.within.secondary_bounded, 0u);
   EXPECT_EQ(tight.within.reflect, tight.exact.reflect);
+}
+
+// A reflected hit's deferred lights under an allowance (a mirror cell's, weight ks): each
+// light skipped costs the weight times half its term, so the weighted sum is off from the
+// exact one by no more than the allowance it says it took, and never takes more than it was
+// offered; with no allowance the exact sum (up to the rounding of fused multiply-adds).
+TEST(Allowance, DeferredLightsChargeWhatTheySkip) {
+  const world w = scene_file(artroom());
+  const camera cam = make_camera(w.sc.view, 48, 36);
+  const std::uint32_t all = (1u << std::min(w.light_pos.size(), size_t(max_deferred_lights))) - 1;
+  int skipped = 0, checked = 0;
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) {
+      const ray r = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
+      hit h;
+      if (!closest_hit(w, r, INFINITY, h)) continue;
+      const surface sf = surface_at(w, h.prim, r, h.t);
+      const material& m = w.sc.materials[size_t(w.info[size_t(h.prim)].material)];
+      const vec3 T = m.texture >= 0 ? sample_texture(w.sc.textures[size_t(m.texture)], surface_uv(w, h.prim, sf.p))
+                                    : vec3(1);
+      trace_state ref;
+      const vec3 exact = deferred_terms(w, r, h, sf, T, all, 0, nullptr, ref);
+      for (float weight : {0.08f, 0.5f}) {
+        for (float room : {0.0f, 0.003f, 0.03f}) {
+          trace_state st;
+          vec3 left{room};
+          const vec3 L = deferred_lights_within(w, r, h, sf, T, all, nullptr, weight, left, st);
+          ++checked;
+          skipped += int(st.counts.shadow_bounded);
+          for (int c = 0; c < 3; ++c) {
+            if (room == 0) EXPECT_NEAR(L[c], exact[c], 1e-6f * (1 + exact[c])) << x << "," << y;
+            EXPECT_GE(left[c], 0.0f);
+            EXPECT_LE(weight * std::fabs(L[c] - exact[c]), room - left[c] + 1e-6f * (1 + exact[c]))
+                << x << "," << y << " weight " << weight << " room " << room;
+          }
+        }
+      }
+    }
+  EXPECT_GT(checked, 3000);
+  EXPECT_GT(skipped, 500) << "a loose allowance skips shadow rays";
 }
 
 }  // namespace
