@@ -193,7 +193,9 @@ TEST(Allowance, DeferredLightsChargeWhatTheySkip) {
           ++checked;
           skipped += int(st.counts.shadow_bounded);
           for (int c = 0; c < 3; ++c) {
-            if (room == 0) EXPECT_NEAR(L[c], exact[c], 1e-6f * (1 + exact[c])) << x << "," << y;
+            if (room == 0) {
+              EXPECT_NEAR(L[c], exact[c], 1e-6f * (1 + exact[c])) << x << "," << y;
+            }
             EXPECT_GE(left[c], 0.0f);
             EXPECT_LE(weight * std::fabs(L[c] - exact[c]), room - left[c] + 1e-6f * (1 + exact[c]))
                 << x << "," << y << " weight " << weight << " room " << room;
