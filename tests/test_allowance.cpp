@@ -165,11 +165,12 @@ TEST(Allowance, AWeakReflectionIsBoundedWithoutItsRay) {
   EXPECT_EQ(tight.within.reflect, tight.exact.reflect);
 }
 
-// A reflected hit's deferred lights under an allowance (a mirror cell's, weight ks): each
-// light skipped costs the weight times half its term, so the weighted sum is off from the
-// exact one by no more than the allowance it says it took, and never takes more than it was
-// offered; with no allowance the exact sum (up to the rounding of fused multiply-adds).
-TEST(Allowance, DeferredLightsChargeWhatTheySkip) {
+// A reflected hit's deferred lights under a pixel's allowance, as a mirror cell takes them
+// (reproject/mirror.cpp): in units of a term of weight k, the pixel's radiance and error
+// divided by k. The weighted sum is then off from the exact one by no more than k times
+// what the allowance says it spent, and that stays within the pixel's own room; with no
+// allowance (eps 0), the exact sum, up to the rounding of fused multiply-adds.
+TEST(Allowance, WeightedDeferredLightsChargeWhatTheySkip) {
   const world w = scene_file(artroom());
   const camera cam = make_camera(w.sc.view, 48, 36);
   const std::uint32_t all = (1u << std::min(w.light_pos.size(), size_t(max_deferred_lights))) - 1;
@@ -185,20 +186,23 @@ TEST(Allowance, DeferredLightsChargeWhatTheySkip) {
                                     : vec3(1);
       trace_state ref;
       const vec3 exact = deferred_terms(w, r, h, sf, T, all, 0, nullptr, ref);
-      for (float weight : {0.08f, 0.5f}) {
-        for (float room : {0.0f, 0.003f, 0.03f}) {
+      const vec3 known{0.4f, 0.3f, 0.2f}, err{0.002f};  // the pixel so far
+      for (float k : {0.08f, 0.5f}) {
+        for (float eps : {0.0f, 0.05f, 0.2f}) {
           trace_state st;
-          vec3 left{room};
-          const vec3 L = deferred_lights_within(w, r, h, sf, T, all, nullptr, weight, left, st);
+          error_allowance allow{known / k, err / k, eps};
+          const vec3 L = deferred_terms(w, r, h, sf, T, all, 0, nullptr, st, &allow);
+          const vec3 room = error_room(known, err, eps);
           ++checked;
           skipped += int(st.counts.shadow_bounded);
           for (int c = 0; c < 3; ++c) {
-            if (room == 0) {
-              EXPECT_NEAR(L[c], exact[c], 1e-6f * (1 + exact[c])) << x << "," << y;
+            const float tol = 1e-6f * (1 + exact[c]);
+            if (eps == 0) {
+              EXPECT_NEAR(L[c], exact[c], tol) << x << "," << y;
             }
-            EXPECT_GE(left[c], 0.0f);
-            EXPECT_LE(weight * std::fabs(L[c] - exact[c]), room - left[c] + 1e-6f * (1 + exact[c]))
-                << x << "," << y << " weight " << weight << " room " << room;
+            EXPECT_LE(k * std::fabs(L[c] - exact[c]), k * allow.spent[c] + tol)
+                << x << "," << y << " k " << k << " eps " << eps;
+            EXPECT_LE(k * allow.spent[c], room[c] + tol) << x << "," << y << " k " << k << " eps " << eps;
           }
         }
       }

@@ -16,9 +16,11 @@ namespace {
 glm::vec3 mirrored(glm::vec3 v, glm::vec3 n) { return v - 2 * glm::dot(v, n) * n; }
 
 // The interpolant of cell n at line x4 and, for a textured cell, its texture at the ray's
-// own hit, and the lights it leaves to per-pixel shadow rays; ks times all.
+// own hit, and the lights it leaves to per-pixel shadow rays; ks times all. The pixel's
+// radiance so far is at least `known`, with proven error `err`.
 void cell_value(const world& w, int prim, const lt_node& n, const interpolant& ip, const float x4[4], const ray& r,
-                float t_hit, float ks, glm::vec3 left, trace_state& st, glm::vec3& L, glm::vec3& E) {
+                float t_hit, float ks, glm::vec3 known, glm::vec3 err, float eps, trace_state& st, glm::vec3& L,
+                glm::vec3& E) {
   float t[4];
   cell_fractions(n, x4, t);
   L = quadrilinear(ip.rad, t), E = ip.err;
@@ -30,14 +32,15 @@ void cell_value(const world& w, int prim, const lt_node& n, const interpolant& i
       T = sample_texture(w.sc.textures[size_t(m.texture)], surface_uv(w, prim, sf.p));
       L += T * quadrilinear(ip.tx->tex, t), E += T * ip.tx->err_tex;
     }
-    // Lights only: a depth-2 cell's deferred rays would be traced at the eye's depth.
-    // Under the pixel's allowance, as a traced reflection's hit would be (mirror_term).
+    // Lights only: a depth-2 cell's deferred rays would be traced at the eye's depth. They
+    // skip shadow rays under the pixel's allowance, as a traced reflection's hit does
+    // (mirror_term): in units of this term, the pixel's radiance and error are divided by
+    // ks, so a light skipped at half its term costs ks times that half of the pixel's room.
+    // The cell's own error is reserved first; the pixel's test decides with all of it.
     if (ip.deferred) {
-      left = glm::max(glm::vec3(0), left - ks * E);  // room for the cell's own error first
-      const glm::vec3 offered = left;
-      L += deferred_lights_within(w, r, hit{t_hit, prim}, sf, T, ip.deferred, &ip.shadow, ks, left, st);
-      L *= ks, E = ks * E + (offered - left);
-      return;
+      error_allowance allow{known / ks, err / ks + E, eps};
+      L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, 0, &ip.shadow, st, &allow);
+      E += allow.spent;
     }
   }
   L *= ks, E *= ks;
@@ -141,7 +144,7 @@ bool mirror_term(mirror_use& mu, const world& w, int x, int y, const surface& sf
       if (hit_shape(w.shapes[size_t(tr.candidates[i])], w.polys, rr, t2 * (1 + 1e-5f), tc)) ok = false;
     }
     if (ok) {
-      cell_value(w, c.prim, *c.node, *c.ip, x4, rr, t2, ks, error_room(known, err, eps), st, L, E);
+      cell_value(w, c.prim, *c.node, *c.ip, x4, rr, t2, ks, known, err, eps, st, L, E);
       if (note_cell(mu.cells, c)) *noted = true;
       ++mu.filled;
       return false;
@@ -164,7 +167,7 @@ bool mirror_term(mirror_use& mu, const world& w, int x, int y, const surface& sf
       const interpolant* ip = nullptr;
       lt_node* node = find_cell(m.f, lt, lp, x4, st, mu.scratch, ip);
       if (ip->reason == cell_reason::valid && !ip->deferred_rays) {
-        cell_value(w, lp, *node, *ip, x4, rr, h.t, ks, error_room(known, err, eps), st, L, E);
+        cell_value(w, lp, *node, *ip, x4, rr, h.t, ks, known, err, eps, st, L, E);
         if (note_cell(mu.cells, cell_ref{&lt, node, ip, lp})) *noted = true;
         ++mu.looked_up;
         return false;

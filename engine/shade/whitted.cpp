@@ -384,25 +384,6 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& s
   return L;
 }
 
-vec3 deferred_lights_within(const world& w, const ray& r, const hit& h, const surface& sf, vec3 texel,
-                            std::uint32_t lights, const shadow_candidates* cands, float weight, vec3& left,
-                            trace_state& st) {
-  const material& m = w.sc.materials[size_t(w.info[size_t(h.prim)].material)];
-  const vec3 nf = glm::dot(sf.ng, r.d) < 0 ? sf.ns : -sf.ns;
-  const vec3 kd_c = m.kd * (m.texture >= 0 ? m.color * texel : m.color);
-  const vec3 v = -r.d, above = sf.p + w.delta * nf;
-  vec3 L{0};
-  for (size_t j = 0; j < w.light_pos.size() && j < size_t(max_deferred_lights); ++j) {
-    if (!(lights >> j & 1)) continue;
-    const allowed_light al =
-        cands && (cands->lights >> j & 1)
-            ? light_within(w, m, kd_c, sf.p, above, nf, v, j, weight, left, st, listed_blocker{w, *cands})
-            : light_within(w, m, kd_c, sf.p, above, nf, v, j, weight, left, st, bvh_blocker{w, j, h.prim, st});
-    L += al.L, left -= al.cost;
-  }
-  return L;
-}
-
 vec3 shade_within(const world& w, const ray& r, const hit& h, float eps, trace_state& st) {
   // Below error_room's own rounding margin nothing can be bounded, and the reference's sum
   // is kept bit for bit (terms_within's may round an ulp apart where the compiler fuses

@@ -142,16 +142,6 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& s
                     std::uint32_t rays, const shadow_candidates* candidates, trace_state& state,
                     error_allowance* allow = nullptr);
 
-// The lights of `lights` (bit j) at a hit reached along a path of weight `weight` (a
-// mirror cell's deferred lights: weight ks), each taken at half its unshadowed term when
-// that costs no more than what is left of the pixel's allowance (`left`, in the pixel's
-// radiance: the cost is the weight times half the term), else shadow-tested; listed
-// lights against `candidates` alone. Returns their sum, unweighted; `left` loses what the
-// skipped lights took.
-vec3 deferred_lights_within(const world& w, const ray& r, const hit& h, const surface& sf, vec3 texel,
-                            std::uint32_t lights, const shadow_candidates* candidates, float weight, vec3& left,
-                            trace_state& state);
-
 // The radiance of an eye ray's hit, for a pixel of full mode's plain frames
 // (engine/interp/object_gate.h): every term as shade_hit computes it at depth 1, except that
 // lights and secondary rays whose error fits the pixel's epsilon are bounded instead of
