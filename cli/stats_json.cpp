@@ -82,7 +82,6 @@ void write_stats_json(const run_record& r, const std::string& path) {
                            {"rays", {{"eye", f.rays.eye}, {"reflect", f.rays.reflect}, {"refract", f.rays.refract},
                                      {"shadow", f.rays.shadow}, {"shadow_bounded", f.rays.shadow_bounded},
                                      {"shadow_asked", f.rays.shadow_asked},
-                                     {"shadow_unbuilt", f.rays.shadow_unbuilt},
                                      {"shadow_listed", f.rays.shadow_listed},
                                      {"secondary_bounded", f.rays.secondary_bounded}}},
                            {"path_ms", {{"fast", f.path_ms.fast}, {"interp", f.path_ms.interp}, {"base", f.path_ms.base}}},

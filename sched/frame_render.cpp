@@ -481,7 +481,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     out.objects_off = p.trees->gate.objects_off();
   }
   if (lights)
-    lights->next_frame(f.lights != nullptr, out.rays.shadow_asked, out.rays.shadow_unbuilt, out.rays.shadow_listed);
+    lights->next_frame(f.lights != nullptr, out.rays.shadow_asked, out.rays.shadow_listed);
   if (p.trees) p.trees->evict();  // between frames: nothing else touches the trees now
   for (const ray_tree_store& t : trees) out.trees.append(t);
   const auto t1 = std::chrono::steady_clock::now();

@@ -1,6 +1,6 @@
 // The light cache (accel/light_cache.h): every shadow ray it answers gets the BVH walk's
-// answer, from any scene, any surface point and any thread; images do not change with it;
-// its trial frames build little and it rests where its lists answer few rays.
+// answer, from any scene, any surface point and any thread, rays along its cells' and
+// faces' sides included; images do not change with it; it rests where its lists answer few rays.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -67,9 +67,6 @@ std::vector<shadow_query> queries(const world& w, int rays, unsigned seed) {
   return out;
 }
 
-// A cache past its trial frame: every node may be built.
-void end_trial(light_cache& lc) { lc.next_frame(true, 10000, 0, 10000); }
-
 struct agreement {
   size_t answered = 0, asked = 0;
 };
@@ -78,13 +75,12 @@ struct agreement {
 // blocker the ray really meets.
 agreement expect_bvh_answers(const world& w, const light_cache& lc, const std::vector<shadow_query>& qs,
                              const std::string& what) {
-  std::vector<light_hint> hints(w.light_pos.size());
   agreement a;
   int wrong = 0;
   for (const shadow_query& q : qs) {
-    const int got = lc.blocker(q.light, q.r, q.dist, q.self, &hints[q.light]);
+    const int got = lc.blocker(q.light, q.r, q.dist, q.self);
     ++a.asked;
-    if (got == light_cache::not_listed || got == light_cache::not_built) continue;
+    if (got == light_cache::not_listed) continue;
     ++a.answered;
     const bool bvh_blocked = first_blocker(w, q.r, q.dist) >= 0;
     float t;
@@ -106,7 +102,6 @@ TEST(LightCache, AnswersAsTheBvhDoesOnTheRepositoryScenes) {
   for (const std::string& s : scenes) {
     const world w = make_world(load_scene(source(s)));
     light_cache lc(w);
-    end_trial(lc);
     const agreement a = expect_bvh_answers(w, lc, queries(w, 3000, 7), s);
     EXPECT_GT(a.asked, 1000u) << s;
     // Lists must answer most of them, or this test says nothing of them.
@@ -120,7 +115,6 @@ TEST_P(LightCacheSpd, AnswersAsTheBvhDoes) {
   EPSRAY_REQUIRE_SPD(GetParam());
   const world w = make_world(load_scene(test::spd_scene(GetParam()).string()));
   light_cache lc(w);
-  end_trial(lc);
   const agreement a = expect_bvh_answers(w, lc, queries(w, 1500, 11), GetParam());
   EXPECT_GT(a.asked, 500u);
 }
@@ -133,7 +127,6 @@ TEST(LightCache, ConcurrentQueriesAgreeWithTheBvh) {
   // Four threads build and read the same nodes at once (TSan runs this one).
   const world w = make_world(load_scene(source("scenes/artroom.nff")));
   light_cache lc(w);
-  end_trial(lc);
   const std::vector<shadow_query> qs = queries(w, 1500, 3);
   std::vector<int> reference(qs.size());
   for (size_t i = 0; i < qs.size(); ++i) reference[i] = first_blocker(w, qs[i].r, qs[i].dist) >= 0;
@@ -141,12 +134,11 @@ TEST(LightCache, ConcurrentQueriesAgreeWithTheBvh) {
   std::vector<std::thread> threads;
   for (int t = 0; t < 4; ++t) {
     threads.emplace_back([&, t] {
-      std::vector<light_hint> hints(w.light_pos.size());
       for (size_t k = 0; k < qs.size(); ++k) {
         const size_t i = (k * 7 + size_t(t) * 131) % qs.size();  // each thread its own order
         const shadow_query& q = qs[i];
-        const int got = lc.blocker(q.light, q.r, q.dist, q.self, &hints[q.light]);
-        if (got == light_cache::not_listed || got == light_cache::not_built) continue;
+        const int got = lc.blocker(q.light, q.r, q.dist, q.self);
+        if (got == light_cache::not_listed) continue;
         wrong[size_t(t)] += (got >= 0) != (reference[i] != 0);
       }
     });
@@ -155,46 +147,84 @@ TEST(LightCache, ConcurrentQueriesAgreeWithTheBvh) {
   for (int t = 0; t < 4; ++t) EXPECT_EQ(wrong[size_t(t)], 0) << "thread " << t;
 }
 
-TEST(LightCache, ATrialFrameBuildsLittleAndThenEverything) {
-  const world w = make_world(load_scene(source("scenes/artroom.nff")));
-  light_cache lc(w);
-  const std::vector<shadow_query> qs = queries(w, 20000, 5);
-  size_t unbuilt = 0;
-  for (const shadow_query& q : qs) unbuilt += lc.blocker(q.light, q.r, q.dist, q.self, nullptr) == light_cache::not_built;
-  // At most trial_builds builds, each splitting into at most 8 nodes.
-  EXPECT_LE(lc.nodes(), size_t(8 * light_cache::trial_builds));
-  EXPECT_GT(unbuilt, 0u);
-  end_trial(lc);
-  unbuilt = 0;
-  for (const shadow_query& q : qs) unbuilt += lc.blocker(q.light, q.r, q.dist, q.self, nullptr) == light_cache::not_built;
-  EXPECT_EQ(unbuilt, 0u);  // every origin lies in the box
-}
-
 TEST(LightCache, RestsWhereItsListsAnswerFewRaysAndTriesAgain) {
   const world w = make_world(load_scene(source("scenes/tests/shapes.nff")));
   light_cache lc(w);
   EXPECT_TRUE(lc.in_use());
-  lc.next_frame(true, 10000, 0, 9000);  // lists answered 90%: kept
+  lc.next_frame(true, 10000, 9000);  // lists answered 90%: kept
   EXPECT_TRUE(lc.in_use());
-  lc.next_frame(true, 10000, 2000, 5000);  // 5000 of the 8000 that found a leaf: under 3/4
+  lc.next_frame(true, 10000, 7000);  // under 3/4
   int rested = 0;
-  while (!lc.in_use()) lc.next_frame(false, 0, 0, 0), ++rested;
+  while (!lc.in_use()) lc.next_frame(false, 0, 0), ++rested;
   EXPECT_EQ(rested, 8);
-  lc.next_frame(true, 10000, 0, 100);  // still few: twice as long
+  lc.next_frame(true, 10000, 100);  // still few: twice as long
   rested = 0;
-  while (!lc.in_use()) lc.next_frame(false, 0, 0, 0), ++rested;
+  while (!lc.in_use()) lc.next_frame(false, 0, 0), ++rested;
   EXPECT_EQ(rested, 16);
-  lc.next_frame(true, 500, 0, 0);  // too few rays to judge: kept
+  lc.next_frame(true, 500, 0);  // too few rays to judge: kept
   EXPECT_TRUE(lc.in_use());
+}
+
+// Shadow rays grazing small triangles, from a light inside the scene along the sides and
+// corners of its cube of directions (where the lookup picks a face by comparing equal
+// magnitudes), and from a light far outside it (whose grids span a small part of one face,
+// so that cells are narrow): every answer is still the BVH's, and many rays are blocked.
+TEST(LightCache, RaysAlongFaceSidesAndNarrowCellsAgreeWithTheBvh) {
+  for (const bool far : {false, true}) {
+    std::mt19937 g(29);
+    const vec3 light = far ? vec3(400, 200, 0) : vec3(0.5f, 0.25f, 0);
+    std::vector<vec3> dirs;
+    for (int i = 0; i < 400; ++i) {
+      vec3 d = test::unit_vec(g);
+      if (far) {
+        d = glm::normalize(-light) + 0.006f * d;  // within about 3 of the origin at the scene
+      } else {
+        const int a = i % 3, b = (a + 1) % 3;
+        if (i % 4 != 3) d[b] = (i % 2 ? -1.0f : 1.0f) * std::fabs(d[a]);  // |d[a]| = |d[b]|
+        if (i % 8 == 1) d[(a + 2) % 3] = d[a];                                // a corner
+      }
+      dirs.push_back(glm::normalize(d));
+    }
+    const float at = far ? glm::length(light) : 4;  // the origins' distance from the light
+    std::string text = "v\nfrom 9 7 8\nat 0 0 0\nup 0 1 0\nangle 40\nhither 0.01\nresolution 8 8\nb 0 0 0\nl " +
+                       std::to_string(light.x) + " " + std::to_string(light.y) + " " + std::to_string(light.z) +
+                       "\nf 1 1 1 1 0 0 0 0\n";
+    // A small triangle across each direction, before the origins below.
+    for (const vec3& d : dirs) {
+      const vec3 c = light + (at + test::uniform(g, -3, -1)) * d;
+      text += "p 3\n";
+      for (int k = 0; k < 3; ++k) {
+        const vec3 v = c + 0.03f * test::unit_vec(g);
+        text += std::to_string(v.x) + " " + std::to_string(v.y) + " " + std::to_string(v.z) + "\n";
+      }
+    }
+    const world w = test::world_from_text(text);
+    light_cache lc(w);
+    std::vector<shadow_query> qs;
+    for (const vec3& d : dirs)
+      for (int k = 0; k < 24; ++k) {
+        // Origins 1-2 past the triangles along d, nudged across it by 0 or 1e-9 to 1e-2.
+        const vec3 nudge = k % 9 ? std::pow(10.0f, -float(k % 8)) * 0.01f * test::unit_vec(g) : vec3(0);
+        const vec3 o = light + (at + test::uniform(g, 0, 1)) * glm::normalize(d + nudge);
+        const vec3 so = light - o;
+        const float dist = safe_length(so);
+        if (dist > 0) qs.push_back({make_ray(o, so / dist), dist, 0, -1});
+      }
+    const char* what = far ? "far light" : "light inside";
+    const agreement a = expect_bvh_answers(w, lc, qs, what);
+    EXPECT_GT(a.answered, 9 * a.asked / 10) << what;
+    size_t blocked = 0;
+    for (const shadow_query& q : qs) blocked += first_blocker(w, q.r, q.dist) >= 0;
+    EXPECT_GT(blocked, qs.size() / 10) << what << ": too few rays meet the triangles to test anything";
+  }
 }
 
 TEST(LightCache, NoLightsMeansNoLists) {
   const world w = test::world_from_text("v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 8\n"
                                         "b 0 0 0\nf 1 1 1 1 0 0 0 0\ns 0 0 0 1\n");
   light_cache lc(w);
-  end_trial(lc);
   const ray r = make_ray(vec3(0, 0, 2), vec3(0, 0, 1));
-  EXPECT_EQ(lc.blocker(0, r, 1, -1, nullptr), light_cache::not_built);
+  EXPECT_EQ(lc.blocker(0, r, 1, -1), light_cache::not_listed);
   EXPECT_EQ(lc.bytes(), 0u);
 }
 

@@ -2,27 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-
-#include "accel/world.h"
-#include "predicate/shaft_shape.h"
+#include <numeric>
 
 namespace epsray {
 
-struct light_cache::node {
-  std::atomic<node*> kids{nullptr};                 // 8, octant k: bit a set = upper half on axis a
-  std::atomic<const std::int32_t*> list{nullptr};  // count, then the primitives; or crowded
-};
-
 namespace {
-
-// A node whose shaft holds more than max_list primitives and that may not be split: its
-// rays walk the BVH.
-const std::int32_t crowded[1] = {-1};
-
-bool inside(vec3 p, vec3 lo, vec3 hi) {
-  return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
-}
 
 bool finite(const bounds& b) {
   for (int a = 0; a < 3; ++a)
@@ -30,131 +14,150 @@ bool finite(const bounds& b) {
   return !b.empty();
 }
 
-void release(light_cache::node& n) {
-  if (light_cache::node* k = n.kids.load(std::memory_order_relaxed)) {
-    for (int i = 0; i < 8; ++i) release(k[i]);
-    delete[] k;
+// The least |x| over [lo, hi].
+double least_abs(double lo, double hi) { return lo > 0 ? lo : (hi < 0 ? -hi : 0); }
+
+// The rectangle [u0, u1] x [v0, v1] of face (a, s) (s = 0: directions with d[a] > 0) that
+// the directions from the light l to the points of box b may fall in. A point q of the box
+// seen in that face has z = +-(q[a] - l[a]) >= |x|, |y| (x, y: its other two coordinates
+// from the light), so z is at least z0 below, and u = x / z, v = y / z lie within the
+// quotients of the box's ranges at z0 and at its far side. The pyramid is taken wider by
+// 1e-5 and the range by 1e-5 (50 times the rounding of a lookup's quotient), so a direction
+// the lookup rounds onto this face or across a cell's side still finds the box.
+struct face_range {
+  double u0, u1, v0, v1;
+};
+bool range_on_face(const bounds& b, glm::dvec3 l, int a, int s, face_range& out) {
+  const int a1 = a == 2 ? 0 : a + 1, a2 = a == 0 ? 2 : a - 1;
+  double zlo = double(b.lo[a]) - l[a], zhi = double(b.hi[a]) - l[a];
+  if (s) std::swap(zlo, zhi), zlo = -zlo, zhi = -zhi;
+  if (!(zhi > 0)) return false;
+  const double xlo = double(b.lo[a1]) - l[a1], xhi = double(b.hi[a1]) - l[a1];
+  const double ylo = double(b.lo[a2]) - l[a2], yhi = double(b.hi[a2]) - l[a2];
+  const double widen = 1 - 1e-5;
+  const double z0 = std::max({zlo, widen * least_abs(xlo, xhi), widen * least_abs(ylo, yhi)});
+  if (z0 > zhi) return false;
+  double u0 = -1, u1 = 1, v0 = -1, v1 = 1;
+  if (z0 > 0) {
+    u0 = std::min(xlo / z0, xlo / zhi), u1 = std::max(xhi / z0, xhi / zhi);
+    v0 = std::min(ylo / z0, ylo / zhi), v1 = std::max(yhi / z0, yhi / zhi);
   }
-  const std::int32_t* l = n.list.load(std::memory_order_relaxed);
-  if (l && l != crowded) delete[] l;
+  const double m = 1e-5;
+  out = {std::max(u0 - m, -1.0), std::min(u1 + m, 1.0), std::max(v0 - m, -1.0), std::min(v1 + m, 1.0)};
+  return out.u0 <= out.u1 && out.v0 <= out.v1;
 }
+
+// The cell of a grid's row or column that u falls in, as face_grid::cell finds it, taken a
+// thousandth of a cell towards `side` (-1 or 1) for the lookup's rounding of (u - lo) s.
+int cell_of(double u, float lo, float s, int res, int side) {
+  const double x = (u - double(lo)) * double(s) + 1e-3 * side;
+  return x >= 1 ? int(std::min(x, double(res - 1))) : 0;
+}
+
+// The distance from l to box b, rounded down.
+float box_distance(const bounds& b, glm::dvec3 l) {
+  double s = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double e = std::max({double(b.lo[a]) - l[a], l[a] - double(b.hi[a]), 0.0});
+    s += e * e;
+  }
+  return float(std::sqrt(s) * (1 - 1e-6));
+}
+
+// Entries a buffer may hold (8 bytes each); a light whose buffer would hold more at the
+// coarsest grid walks the BVH.
+constexpr size_t max_entries = size_t(1) << 24;
+constexpr int min_res = 8;
 
 }  // namespace
 
-light_cache::light_cache(const world& w, size_t max_nodes) : w_(w), max_nodes_(max_nodes) {
-  bounds box = w.box;
-  // A shadow ray leaves its surface point by delta (whitted.md 4): every origin lies within
-  // delta of the primitives' box.
-  box.lo -= vec3(4 * w.delta), box.hi += vec3(4 * w.delta);
-  if (!finite(box) || w.light_pos.empty()) return;  // no lists: every ray walks the BVH
-  root_box_ = box;
-  lights_ = w.light_pos.size();
-  roots_ = std::make_unique<node[]>(lights_);
+light_cache::light_cache(const world& w) : w_(w) {
+  if (!finite(w.box) || w.light_pos.empty()) return;  // no lists: every ray walks the BVH
+  // Cells about as many as the primitives on each face: a mesh's triangles then fall a few
+  // to a cell where a shadow ray crosses the mesh.
+  const double n = double(std::max<size_t>(w.scene_prims, 1));
+  const int res = std::clamp(int(std::ceil(2 * std::sqrt(n))), 16, 256);
+  bufs_.resize(w.light_pos.size());
+  for (size_t j = 0; j < bufs_.size(); ++j) build(bufs_[j], w.light_pos[j], res);
 }
 
-light_cache::~light_cache() {
-  for (size_t j = 0; j < lights_; ++j) release(roots_[j]);
+void light_cache::build(buffer& b, vec3 light, int res) const {
+  const glm::dvec3 l(light);
+  const size_t n = w_.slot_prim.size();  // the BVH's: face rectangles are in none
+  std::vector<bounds> box(n);
+  std::vector<entry> order(n);
+  bounds all;
+  for (size_t i = 0; i < n; ++i) {
+    box[i] = with_rounding_margin(w_.slot_bounds[i], light);
+    all.grow(box[i]);
+    order[i] = {std::int32_t(i), box_distance(box[i], l)};
+  }
+  // Filled nearest first, so each cell's list is sorted by distance from the light.
+  std::stable_sort(order.begin(), order.end(), [](const entry& x, const entry& y) { return x.near < y.near; });
+  for (; res >= min_res; res /= 2) {
+    const size_t face_cells = size_t(res) * size_t(res);
+    for (int f = 0; f < 6; ++f) {
+      face_grid& g = b.faces[f];
+      g = face_grid{};
+      g.first = size_t(f) * face_cells, g.res = res;
+      face_range r;
+      if (!range_on_face(all, l, f / 2, f % 2, r)) continue;  // no primitive in this face: one empty cell
+      g.u0 = float(r.u0), g.v0 = float(r.v0);
+      g.su = float(res / std::max(r.u1 - double(g.u0), 1e-30)), g.sv = float(res / std::max(r.v1 - double(g.v0), 1e-30));
+    }
+    struct rect {
+      size_t first;
+      int u0, u1, v0, v1;
+    };
+    std::vector<rect> rects;
+    std::vector<std::uint32_t> rect_of(n + 1, 0);  // primitive order[k]'s rects: [rect_of[k], rect_of[k + 1])
+    std::vector<std::uint32_t> count(6 * face_cells, 0);
+    size_t total = 0;
+    for (size_t k = 0; k < n && total <= max_entries; ++k) {
+      const bounds& bx = box[size_t(order[k].slot)];
+      for (int f = 0; f < 6; ++f) {
+        const face_grid& g = b.faces[f];
+        face_range r;
+        if (g.su == 0 || !range_on_face(bx, l, f / 2, f % 2, r)) continue;
+        const rect c{g.first, cell_of(r.u0, g.u0, g.su, res, -1), cell_of(r.u1, g.u0, g.su, res, 1),
+                     cell_of(r.v0, g.v0, g.sv, res, -1), cell_of(r.v1, g.v0, g.sv, res, 1)};
+        rects.push_back(c);
+        for (int v = c.v0; v <= c.v1; ++v)
+          for (int u = c.u0; u <= c.u1; ++u) ++count[c.first + size_t(v) * size_t(res) + size_t(u)];
+        total += size_t(c.u1 - c.u0 + 1) * size_t(c.v1 - c.v0 + 1);
+      }
+      rect_of[k + 1] = std::uint32_t(rects.size());
+    }
+    if (total > max_entries) continue;
+    b.start.assign(count.size() + 1, 0);
+    for (size_t c = 0; c < count.size(); ++c) b.start[c + 1] = b.start[c] + count[c];
+    b.list.resize(total);
+    std::vector<std::uint32_t> fill(b.start.begin(), b.start.end() - 1);
+    for (size_t k = 0; k < n; ++k)
+      for (std::uint32_t i = rect_of[k]; i < rect_of[k + 1]; ++i) {
+        const rect& c = rects[i];
+        for (int v = c.v0; v <= c.v1; ++v)
+          for (int u = c.u0; u <= c.u1; ++u) b.list[fill[c.first + size_t(v) * size_t(res) + size_t(u)]++] = order[k];
+      }
+    b.light = light, b.res = res;
+    return;
+  }
 }
 
-void light_cache::next_frame(bool used, std::uint64_t asked, std::uint64_t unbuilt, std::uint64_t answered) {
+void light_cache::next_frame(bool used, std::uint64_t asked, std::uint64_t answered) {
   if (!used) {
     if (wait_ > 0) --wait_;
-    trial_ = true;
-  } else {
-    const std::uint64_t judged = asked - std::min(asked, unbuilt);
-    if (judged >= 1000 && 4 * answered < 3 * judged) {
-      wait_ = rest_, rest_ = std::min(2 * rest_, 64), trial_ = true;
-    } else if (judged >= 1000) {
-      rest_ = 8, trial_ = false;
-    }  // else too few to judge: a trial again
+  } else if (asked >= 1000 && 4 * answered < 3 * asked) {
+    wait_ = rest_, rest_ = std::min(2 * rest_, 64);
+  } else if (asked >= 1000) {
+    rest_ = 8;
   }
-  builds_left_.store(trial_ ? trial_builds : std::numeric_limits<std::int64_t>::max(), std::memory_order_relaxed);
 }
 
 size_t light_cache::bytes() const {
-  return (lights_ + nodes()) * sizeof(node) + list_ints_.load(std::memory_order_relaxed) * sizeof(std::int32_t);
-}
-
-bool light_cache::listed(size_t j, vec3 p, light_hint* hint, const std::int32_t*& out) const {
-  if (!inside(p, root_box_.lo, root_box_.hi)) return false;  // NaN too
-  bounds box = root_box_;
-  node* n = &roots_[j];
-  int depth = 0;
-  for (;;) {
-    if (node* k = n->kids.load(std::memory_order_acquire)) {
-      const vec3 c = 0.5f * (box.lo + box.hi);
-      int o = 0;
-      for (int a = 0; a < 3; ++a) {
-        if (p[a] >= c[a]) o |= 1 << a, box.lo[a] = c[a];
-        else box.hi[a] = c[a];
-      }
-      n = &k[o], ++depth;
-      continue;
-    }
-    const std::int32_t* l = n->list.load(std::memory_order_acquire);
-    if (!l) {
-      // A trial's builds spent: read before the write, so that rays past it share no line.
-      if (builds_left_.load(std::memory_order_relaxed) <= 0 || builds_left_.fetch_sub(1, std::memory_order_relaxed) <= 0)
-        return false;
-      if (!(l = build(j, *n, box, depth))) continue;  // split: descend into the kids
-    }
-    out = l == crowded ? nullptr : l;
-    if (hint) {  // a crowded leaf too: no descent next time
-      const int s = hint->next;
-      hint->list[s] = out, hint->lo[s] = box.lo, hint->hi[s] = box.hi, hint->next = s ^ 1;
-    }
-    return true;
-  }
-}
-
-// The node's list when its shaft holds few primitives; else its kids (returns null) or,
-// past the depth or the node budget, crowded. Both ends take a margin of ~100 ulps: a ray's
-// origin is computed in floats from its own hit (the cells' shadow lists do the same).
-const std::int32_t* light_cache::build(size_t j, node& n, const bounds& box, int depth) const {
-  const bounds a = with_rounding_margin(box);
-  const bounds b = with_rounding_margin(bounds{w_.light_pos[j], w_.light_pos[j]});
-  const shaft s = make_shaft(a, b);
-  std::int32_t found[dense_list];
-  int count = 0;
-  // Boxes first: a shaft that meets many boxes is dense whatever the shapes' own tests say,
-  // and those tests (a polygon of 144 vertices in double) cost far more than the boxes'.
-  int boxes = 0;
-  const bool crowd = for_each_in_shaft(w_.tree, w_.slot_bounds, w_.slot_prim, s, [&](int) { return ++boxes > 2 * dense_list; });
-  const bool dense = crowd || for_each_shape_in_shaft(w_, s, a, b, [&](int id) {
-    if (std::find(found, found + count, id) != found + count) return false;  // a split primitive's other slot
-    if (count == dense_list) return true;
-    found[count++] = id;
-    return false;
-  });
-  const std::int32_t* expected = nullptr;
-  if (!dense && count <= max_list) {
-    std::int32_t* l = new std::int32_t[size_t(count) + 1];
-    l[0] = count;
-    std::copy(found, found + count, l + 1);
-    if (!n.list.compare_exchange_strong(expected, l, std::memory_order_acq_rel, std::memory_order_acquire)) {
-      delete[] l;
-      return expected;
-    }
-    list_ints_.fetch_add(size_t(count) + 1, std::memory_order_relaxed);
-    return l;
-  }
-  // A shaft through a mesh meets many of its triangles however thin it gets: past the first
-  // levels such a node is left to the BVH instead of splitting down to the last level.
-  const bool split = depth < max_depth && (!dense || depth < dense_depth);
-  if (split && nodes_.fetch_add(8, std::memory_order_relaxed) + 8 <= max_nodes_) {
-    node* k = new node[8];
-    node* none = nullptr;
-    if (!n.kids.compare_exchange_strong(none, k, std::memory_order_acq_rel, std::memory_order_acquire)) {
-      delete[] k;
-      nodes_.fetch_sub(8, std::memory_order_relaxed);
-    }
-    return nullptr;
-  }
-  if (split) nodes_.fetch_sub(8, std::memory_order_relaxed);
-  if (n.kids.load(std::memory_order_acquire)) return nullptr;  // another thread split it
-  if (!n.list.compare_exchange_strong(expected, crowded, std::memory_order_acq_rel, std::memory_order_acquire))
-    return expected;
-  return crowded;
+  size_t s = 0;
+  for (const buffer& b : bufs_) s += b.start.size() * sizeof(std::uint32_t) + b.list.size() * sizeof(entry);
+  return s;
 }
 
 }  // namespace epsray

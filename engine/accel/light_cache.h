@@ -1,110 +1,108 @@
 // Shadow rays answered from short lists of what may block them. Shadows do not depend on
 // the camera: whether a point sees a light is a function of the point alone, so one
 // structure serves every frame of a walk, every depth of the ray tree and every path of a
-// pixel. Per light, an octree over the scene's box; a leaf holds the primitives that may
-// meet some segment from the leaf to the light (the shaft of the two, shaft_shape.h), and
-// a shadow ray whose origin lies in the leaf tests those alone. Every primitive the ray
-// can meet is listed, so the answer (lit, or blocked) is the BVH walk's: images do not
-// change, only the cost of a shadow ray. Nodes are built lazily, by the first ray that
-// reaches them, and published lock-free; a node's list depends on its box alone, so what
-// is built does not depend on which thread built it.
+// pixel. Per light, a light buffer (Haines and Greenberg 1986): a cube of directions around
+// the light, each face a grid of cells, each cell listing the primitives whose box, seen
+// from the light, may cover some direction of the cell. A shadow ray runs along one
+// direction from the light, so only its cell's primitives can meet it; the list is sorted
+// by the boxes' distance from the light, and the scan stops at the first one farther than
+// the ray's origin. Every primitive the ray can meet is listed, so the answer (lit, or
+// blocked) is the BVH walk's: images do not change, only the cost of a shadow ray. The
+// buffers are built whole when the cache is made and never change, so what a ray reads
+// does not depend on threads.
 #pragma once
-#include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <memory>
+#include <vector>
 
 #include "accel/world.h"
 
 namespace epsray {
 
-// A thread's last two leaves for one light, with their boxes: neighbouring shadow rays mostly
-// start in one of them (two: a pixel's eye hit and its reflection's hit take turns), and a
-// published leaf never changes.
-struct light_hint {
-  const std::int32_t* list[2] = {nullptr, nullptr};  // the leaf's list; null: it has none
-  vec3 lo[2] = {vec3(INFINITY), vec3(INFINITY)}, hi[2] = {vec3(-INFINITY), vec3(-INFINITY)};  // empty: unset
-  int next = 0;  // the slot a new leaf replaces
-};
-
 class light_cache {
  public:
-  // A leaf lists at most this many primitives; a node whose shaft holds more is split.
-  static constexpr int max_list = 8;
-  // A node whose shaft holds dense_list primitives or more (or meets twice as many boxes)
-  // is split only above dense_depth.
-  static constexpr int dense_list = 32, dense_depth = 3;
-  // Splits stop this deep (a 64th of the box along each axis: 12 levels measured the same),
-  // and when max_nodes are made: such a node's rays walk the BVH.
-  static constexpr int max_depth = 6;
-  static constexpr int not_listed = -2;  // a leaf whose shaft is crowded: the BVH answers
-  static constexpr int not_built = -3;   // no leaf: outside the box, or a trial frame's builds spent
-  // Nodes a trial frame may build (next_frame).
-  static constexpr std::int64_t trial_builds = 512;
+  // A cell listing more than this leaves its rays to the BVH.
+  static constexpr int max_list = 48;
+  static constexpr int not_listed = -2;  // the ray's cell is crowded, or no buffer: the BVH answers
 
-  explicit light_cache(const world& w, size_t max_nodes = size_t(1) << 18);
-  ~light_cache();
-  light_cache(const light_cache&) = delete;
-  light_cache& operator=(const light_cache&) = delete;
+  explicit light_cache(const world& w);
 
   // The shadow ray r (from its origin towards light j, at distance dist): -1 when no
-  // primitive blocks it, some primitive that does, or not_listed / not_built when its
-  // origin lies in no listed leaf: the caller walks the BVH.
+  // primitive blocks it, some primitive that does, or not_listed: the caller walks the BVH.
   // `self` (-1: none) is a primitive the caller knows the ray cannot meet: the flat one it leaves.
-  int blocker(size_t j, const ray& r, float dist, int self, light_hint* hint) const {
-    const std::int32_t* l;
-    if (!(hint && hinted(*hint, r.o, l)) && !(j < lights_ && listed(j, r.o, hint, l))) return not_built;
-    if (!l) return not_listed;
-    for (std::int32_t i = 1; i <= l[0]; ++i) {
-      const int id = l[i];
+  int blocker(size_t j, const ray& r, float dist, int self) const {
+    if (j >= bufs_.size() || bufs_[j].res == 0) return not_listed;
+    const buffer& b = bufs_[j];
+    const vec3 d = r.o - b.light;
+    const vec3 m = glm::abs(d);
+    const int a = m.x >= m.y && m.x >= m.z ? 0 : (m.y >= m.z ? 1 : 2);
+    if (!(m[a] > 0)) return not_listed;  // at the light, or NaN
+    const int a1 = a == 2 ? 0 : a + 1, a2 = a == 0 ? 2 : a - 1;
+    const int f = 2 * a + (d[a] < 0);
+    const face_grid& g = b.faces[f];
+    const size_t c = g.first + size_t(g.cell(d[a2] / m[a], g.v0, g.sv)) * size_t(g.res) +
+                     size_t(g.cell(d[a1] / m[a], g.u0, g.su));
+    const std::uint32_t first = b.start[c], last = b.start[c + 1];
+    if (last - first > std::uint32_t(max_list)) return not_listed;
+    // A hit at t < dist lies nearer the light than the origin (dist, less what rounding moves).
+    const float reach = dist * 1.0001f;
+    for (std::uint32_t i = first; i < last; ++i) {
+      const entry& e = b.list[i];
+      if (e.near > reach) break;
+      const int id = int(w_.slot_prim[size_t(e.slot)]);
       if (id == self) continue;
       // Its box first, as the BVH tests it: a polygon of many vertices is dear to test whole.
-      const bounds& b = w_.hit_boxes[size_t(id)];
+      const bounds& bx = w_.slot_bounds[size_t(e.slot)];
       float t;
-      if (hit_bounds(b.lo, b.hi, r, dist, t) && hit_shape(w_.shapes[size_t(id)], w_.polys, r, dist, t)) return id;
+      if (hit_bounds(bx.lo, bx.hi, r, dist, t) && hit_shape(w_.shapes[size_t(id)], w_.polys, r, dist, t)) return id;
     }
     return -1;
   }
 
   // Between frames, from the frame's counts (never its clocks): the shadow rays that asked
-  // the lists, those that found no leaf built (not_built) and those a list answered. Where
-  // a list answered under 3/4 of those that found a leaf (shafts through meshes, crowds of
-  // spheres), the rays sent on to the BVH paid a lookup for nothing and the lists that
-  // answered were long: the lists rest for 8 frames, then 16, 32, 64 while that lasts. The
-  // first frame and each after a rest are trials that build at most trial_builds nodes, so
-  // a scene the lists do not suit pays little to find out. `used`: this frame asked them.
-  void next_frame(bool used, std::uint64_t asked, std::uint64_t unbuilt, std::uint64_t answered);
+  // the lists and those a list answered. Where lists answered under 3/4 of them (crowded
+  // cells: a light seen through a dense mesh), the rays sent on to the BVH paid a lookup
+  // for nothing: the lists rest for 8 frames, then 16, 32, 64 while that lasts.
+  // `used`: this frame asked them.
+  void next_frame(bool used, std::uint64_t asked, std::uint64_t answered);
   bool in_use() const { return wait_ == 0; }
 
-  size_t nodes() const { return nodes_.load(std::memory_order_relaxed); }
+  // Cells per face side of light j's buffer (0: none).
+  int resolution(size_t j) const { return j < bufs_.size() ? bufs_[j].res : 0; }
   size_t bytes() const;
 
-  struct node;
-
  private:
-  // p in one of the hint's leaves: its list (null when crowded) in l.
-  static bool hinted(const light_hint& h, vec3 p, const std::int32_t*& l) {
-    for (int s = 0; s < 2; ++s)
-      if (p.x >= h.lo[s].x && p.y >= h.lo[s].y && p.z >= h.lo[s].z && p.x <= h.hi[s].x && p.y <= h.hi[s].y &&
-          p.z <= h.hi[s].z)
-        return l = h.list[s], true;
-    return false;
-  }
-  // The descent to p's leaf, building what is missing; false when p lies outside the box
-  // or a trial frame's builds are spent.
-  bool listed(size_t j, vec3 p, light_hint* hint, const std::int32_t*& l) const;
-  const std::int32_t* build(size_t j, node& n, const bounds& box, int depth) const;
+  // A BVH slot (world::slot_prim): a primitive split into pieces is listed by the pieces'
+  // boxes, as the BVH's leaves hold them, so a ray is tested against a piece's box first.
+  struct entry {
+    std::int32_t slot;
+    float near;  // the distance from the light to the slot's box, rounded down
+  };
+  // A face's grid spans only the rectangle of it that the scene's box covers (a far light
+  // sees the scene in a small part of one face): res x res cells from (u0, v0), su and sv
+  // cells per unit. A direction outside it is clamped to the nearest cell: no primitive
+  // lies that way, so the ray meets none of what that cell lists.
+  struct face_grid {
+    size_t first = 0;  // the index of the face's first cell
+    float u0 = 0, v0 = 0, su = 0, sv = 0;
+    int res = 0;
+    int cell(float u, float lo, float s) const {
+      const float x = (u - lo) * s;
+      return x >= 1 ? std::min(int(x), res - 1) : 0;  // NaN too
+    }
+  };
+  struct buffer {
+    vec3 light{0};
+    int res = 0;  // 0: no buffer, every ray walks the BVH
+    face_grid faces[6];
+    std::vector<std::uint32_t> start;  // 6 res^2 + 1: cell c lists list[start[c], start[c + 1])
+    std::vector<entry> list;
+  };
+  void build(buffer& b, vec3 light, int res) const;
 
   const world& w_;
-  bounds root_box_;
-  std::unique_ptr<node[]> roots_;  // one per light
-  size_t lights_ = 0;
-  size_t max_nodes_;
-  mutable std::atomic<size_t> nodes_{0};
-  mutable std::atomic<size_t> list_ints_{0};
+  std::vector<buffer> bufs_;
   int wait_ = 0, rest_ = 8;
-  bool trial_ = true;
-  mutable std::atomic<std::int64_t> builds_left_{trial_builds};
 };
 
 }  // namespace epsray

@@ -25,12 +25,8 @@ inline int left_flat(const world& w, int prim) {
 [[gnu::noinline]] int listed_blocker_of(const world& w, const ray& r, float dist, size_t light, int prim,
                                         trace_state& st) {
   ++st.counts.shadow_asked;
-  int b = st.lights->blocker(light, r, dist, left_flat(w, prim),
-                             light < size_t(shadow_cache_lights) ? &st.light_hints[light] : nullptr);
-  if (b == light_cache::not_listed || b == light_cache::not_built) {
-    st.counts.shadow_unbuilt += b == light_cache::not_built;
-    return first_blocker(w, r, dist);
-  }
+  const int b = st.lights->blocker(light, r, dist, left_flat(w, prim));
+  if (b == light_cache::not_listed) return first_blocker(w, r, dist);
   ++st.counts.shadow_listed;
   return b;
 }

@@ -17,15 +17,14 @@ struct ray_counts {
   // its term) and secondary rays with their subtrees (taken at the middle of their range).
   // Not rays traced, so not in total().
   std::uint64_t shadow_bounded = 0, secondary_bounded = 0;
-  // Of the shadow rays, those that asked the light cache (accel/light_cache.h), those that
-  // found no leaf built and those it answered from a leaf's list instead of a BVH walk:
-  // still rays cast, in shadow and total().
-  std::uint64_t shadow_asked = 0, shadow_unbuilt = 0, shadow_listed = 0;
+  // Of the shadow rays, those that asked the light cache (accel/light_cache.h) and those it
+  // answered from a cell's list instead of a BVH walk: still rays cast, in shadow and total().
+  std::uint64_t shadow_asked = 0, shadow_listed = 0;
   std::uint64_t total() const { return eye + reflect + refract + shadow; }
   ray_counts& operator+=(const ray_counts& o) {
     eye += o.eye, reflect += o.reflect, refract += o.refract, shadow += o.shadow;
     shadow_bounded += o.shadow_bounded, secondary_bounded += o.secondary_bounded;
-    shadow_asked += o.shadow_asked, shadow_unbuilt += o.shadow_unbuilt, shadow_listed += o.shadow_listed;
+    shadow_asked += o.shadow_asked, shadow_listed += o.shadow_listed;
     return *this;
   }
 };
@@ -55,7 +54,6 @@ struct trace_state {
   // give the BVH walk's answer (accel/light_cache.h); bypassed while a ray tree is recorded,
   // as the last blocker is. Null (base mode, the reference): every shadow ray walks the BVH.
   const light_cache* lights = nullptr;
-  light_hint light_hints[shadow_cache_lights];
   // When set, shading at depth 1 stores the factor the root's texture multiplies
   // (A*Kd*C + sum of lit Ij*Kd*C*dot(Nf, Lj), texture excluded) and the root's uv, so an
   // interpolant can keep texture lookups out of the interpolated terms.

@@ -3,6 +3,7 @@
 //   soup_{closest_hit,first_blocker}/N random rays through N random spheres (items: rays)
 //   spd_{closest_hit,first_blocker}/<scene>/{eye,random,shadow}
 //                                      the SPD scenes with their own camera (items: rays)
+//   spd_light_cache/<scene>/shadow     the same shadow rays by the light cache's lists
 //   whitted/<scene>                    trace_eye per eye ray (items: eye rays; rays/s counts all)
 // Scenes, soups and ray sets are made on first use and kept, outside the timed loops.
 #include <cstdlib>
@@ -13,6 +14,7 @@
 #include <tuple>
 
 #include "accel/bvh.h"
+#include "accel/light_cache.h"
 #include "bench_common.h"
 #include "scene/nff.h"
 #include "shade/surface.h"
@@ -187,8 +189,9 @@ void bm_soup(benchmark::State& state, bool closest) {
 }
 
 // The shadow rays of radiance() for every eye ray's first hit: from just above the surface
-// to each light on its front side, tmax the distance to the light.
-ray_set shadow_rays(const world& w, const ray_set& eye) {
+// to each light on its front side, tmax the distance to the light; each one's light in
+// `light`, and in `self` the flat primitive it leaves, which the light cache skips.
+ray_set shadow_rays(const world& w, const ray_set& eye, std::vector<std::uint32_t>& light, std::vector<int>& self) {
   ray_set set;
   for (const ray& r : eye.rays) {
     hit h;
@@ -196,13 +199,16 @@ ray_set shadow_rays(const world& w, const ray_set& eye) {
     const surface sf = surface_at(w, h.prim, r, h.t);
     const vec3 nf = glm::dot(sf.ng, r.d) < 0 ? sf.ns : -sf.ns;
     const vec3 above = sf.p + w.delta * nf;
-    for (const vec3& lp : w.light_pos) {
+    for (size_t j = 0; j < w.light_pos.size(); ++j) {
+      const vec3 lp = w.light_pos[j];
       if (glm::dot(nf, glm::normalize(lp - sf.p)) <= 0) continue;
       const vec3 so = lp - above;
       const float dist = glm::length(so);
       if (dist <= 0) continue;
       set.rays.push_back(make_ray(above, so / dist));
       set.tmax.push_back(dist);
+      light.push_back(std::uint32_t(j));
+      self.push_back(cannot_reenter(w.shapes[size_t(h.prim)].kind, false, w.info[size_t(h.prim)].patch) ? h.prim : -1);
     }
   }
   return set;
@@ -230,6 +236,29 @@ void bm_spd(benchmark::State& state, std::string name, bool closest, spd_rays wh
     return;
   }
   run_query(state, d->w, set, closest);
+}
+
+// The same shadow rays answered by interp and full modes' light cache (accel/light_cache.h),
+// the BVH walking those its crowded cells leave; `listed%`: the share its lists answered.
+void bm_light_cache(benchmark::State& state, std::string name) {
+  const spd_data* d = spd_or_skip(state, name);
+  if (!d) return;
+  const light_cache lc(d->w);
+  const ray_set& set = d->shadow;
+  std::size_t hits = 0, listed = 0, at = 0;
+  run_ray_set(state, set, [&](const ray& r, float tmax) {
+    // run_ray_set walks the set in order, chunk after chunk: `at` follows it.
+    const std::size_t i = at++ % set.rays.size();
+    int b = lc.blocker(d->shadow_light[i], r, tmax, d->shadow_self[i]);
+    if (b == light_cache::not_listed) b = first_blocker(d->w, r, tmax);
+    else ++listed;
+    benchmark::DoNotOptimize(b);
+    hits += b >= 0;
+  });
+  const double done = double(state.iterations()) * double(chunk);
+  state.counters["hit%"] = done > 0 ? 100.0 * double(hits) / done : 0.0;
+  state.counters["listed%"] = done > 0 ? 100.0 * double(listed) / done : 0.0;
+  state.counters["KB"] = double(lc.bytes()) / 1024;
 }
 
 void bm_whitted(benchmark::State& state, std::string name) {
@@ -278,7 +307,7 @@ const spd_data* spd_scene(const std::string& name) {
   d->w = make_world(load_scene(file.string()));
   d->eye = eye_rays(d->w.sc.view, 256, 256);
   d->random = random_rays(d->w.box, random_ray_count, 17);
-  d->shadow = shadow_rays(d->w, d->eye);
+  d->shadow = shadow_rays(d->w, d->eye, d->shadow_light, d->shadow_self);
   return (cache[name] = std::move(d)).get();
 }
 
@@ -304,6 +333,8 @@ void register_bvh_benchmarks() {
     add("first_blocker", "eye", false, spd_rays::eye);
     add("first_blocker", "random", false, spd_rays::random);
     add("first_blocker", "shadow", false, spd_rays::shadow);
+    benchmark::RegisterBenchmark(("spd_light_cache/" + n + "/shadow").c_str(), bm_light_cache, n)
+        ->Unit(benchmark::kMicrosecond);
   }
   for (const char* n : {"balls-s3", "teapot-s6"})
     benchmark::RegisterBenchmark((std::string("whitted/") + n).c_str(), bm_whitted, std::string(n))

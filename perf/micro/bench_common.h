@@ -80,6 +80,8 @@ struct spd_data {
   ray_set eye;     // 256x256 eye rays of the scene's camera, tmax infinite
   ray_set random;  // 65536 random rays from inside the scene's box, tmax infinite
   ray_set shadow;  // the shadow rays trace_eye casts from the eye rays' first hits
+  std::vector<std::uint32_t> shadow_light;  // each shadow ray's light
+  std::vector<int> shadow_self;  // the flat primitive it leaves (-1: none), as whitted.cpp passes it
 };
 // Null when the scene file is absent.
 const spd_data* spd_scene(const std::string& name);
