@@ -219,6 +219,20 @@ TEST(LightCache, RaysAlongFaceSidesAndNarrowCellsAgreeWithTheBvh) {
   }
 }
 
+// A far light over nested spheres: every cell that lists anything lists them all, more than
+// max_list, so no buffer is kept and every ray walks the BVH.
+TEST(LightCache, NoBufferWhereMostCellsAreCrowded) {
+  std::string text = "v\nfrom 0 0 9\nat 0 0 0\nup 0 1 0\nangle 40\nhither 0.01\nresolution 8 8\nb 0 0 0\n"
+                     "l 1000 0 0\nf 1 1 1 1 0 0 0 0\n";
+  for (int i = 0; i < 2 * light_cache::max_list; ++i) text += "s 0 0 0 " + std::to_string(1 + 0.01 * i) + "\n";
+  const world w = test::world_from_text(text);
+  const light_cache lc(w);
+  EXPECT_EQ(lc.resolution(0), 0);
+  EXPECT_EQ(lc.bytes(), 0u);
+  const ray r = make_ray(vec3(0, 0, 3), glm::normalize(vec3(1000, 0, -3)));
+  EXPECT_EQ(lc.blocker(0, r, 1000, -1), light_cache::not_listed);
+}
+
 TEST(LightCache, NoLightsMeansNoLists) {
   const world w = test::world_from_text("v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 8 8\n"
                                         "b 0 0 0\nf 1 1 1 1 0 0 0 0\ns 0 0 0 1\n");

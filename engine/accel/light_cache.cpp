@@ -64,9 +64,9 @@ float box_distance(const bounds& b, glm::dvec3 l) {
   return float(std::sqrt(s) * (1 - 1e-6));
 }
 
-// Entries a buffer may hold (8 bytes each); a light whose buffer would hold more at the
-// coarsest grid walks the BVH.
-constexpr size_t max_entries = size_t(1) << 24;
+// Entries (8 bytes each) one buffer and all of them may hold: a light whose buffer would
+// hold more than its share at the coarsest grid walks the BVH.
+constexpr size_t light_entries = size_t(1) << 22, all_entries = size_t(1) << 23;
 constexpr int min_res = 8;
 
 }  // namespace
@@ -78,10 +78,14 @@ light_cache::light_cache(const world& w) : w_(w) {
   const double n = double(std::max<size_t>(w.scene_prims, 1));
   const int res = std::clamp(int(std::ceil(2 * std::sqrt(n))), 16, 256);
   bufs_.resize(w.light_pos.size());
-  for (size_t j = 0; j < bufs_.size(); ++j) build(bufs_[j], w.light_pos[j], res);
+  size_t left = all_entries;
+  for (size_t j = 0; j < bufs_.size(); ++j) {
+    build(bufs_[j], w.light_pos[j], res, std::min(left, light_entries));
+    left -= bufs_[j].list.size();
+  }
 }
 
-void light_cache::build(buffer& b, vec3 light, int res) const {
+void light_cache::build(buffer& b, vec3 light, int res, size_t max_entries) const {
   const glm::dvec3 l(light);
   const size_t n = w_.slot_prim.size();  // the BVH's: face rectangles are in none
   std::vector<bounds> box(n);
@@ -129,6 +133,11 @@ void light_cache::build(buffer& b, vec3 light, int res) const {
       rect_of[k + 1] = std::uint32_t(rects.size());
     }
     if (total > max_entries) continue;
+    // A buffer whose cells are mostly crowded (a far light over nested shells of spheres)
+    // would send most rays on to the BVH after a lookup: none is kept.
+    size_t used = 0, crowded = 0;
+    for (const std::uint32_t c : count) used += c > 0, crowded += c > std::uint32_t(max_list);
+    if (2 * crowded > used) return;
     b.start.assign(count.size() + 1, 0);
     for (size_t c = 0; c < count.size(); ++c) b.start[c + 1] = b.start[c] + count[c];
     b.list.resize(total);

@@ -98,7 +98,7 @@ class light_cache {
     std::vector<std::uint32_t> start;  // 6 res^2 + 1: cell c lists list[start[c], start[c + 1])
     std::vector<entry> list;
   };
-  void build(buffer& b, vec3 light, int res) const;
+  void build(buffer& b, vec3 light, int res, size_t max_entries) const;
 
   const world& w_;
   std::vector<buffer> bufs_;
