@@ -88,7 +88,7 @@ class light_cache {
     int res = 0;
     int cell(float u, float lo, float s) const {
       const float x = (u - lo) * s;
-      return x >= 1 ? std::min(int(x), res - 1) : 0;  // NaN too
+      return x >= 1 ? int(std::min(x, float(res - 1))) : 0;  // clamped before the cast; NaN too
     }
   };
   struct buffer {
