@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 namespace epsray {
 
@@ -73,8 +72,8 @@ constexpr int min_res = 8;
 
 light_cache::light_cache(const world& w) : w_(w) {
   if (!finite(w.box) || w.light_pos.empty()) return;  // no lists: every ray walks the BVH
-  // Cells about as many as the primitives on each face: a mesh's triangles then fall a few
-  // to a cell where a shadow ray crosses the mesh.
+  // About four cells a face for each primitive: where a shadow ray crosses a mesh, its cell
+  // then lists a few of the mesh's triangles.
   const double n = double(std::max<size_t>(w.scene_prims, 1));
   const int res = std::clamp(int(std::ceil(2 * std::sqrt(n))), 16, 256);
   bufs_.resize(w.light_pos.size());
