@@ -244,8 +244,8 @@ TEST(LightCache, NoLightsMeansNoLists) {
 
 // Full and interp walks give the same images with the cache as without, and the cache
 // answers shadow rays in them.
-void expect_same_walk(render_mode mode) {
-  const world w = make_world(load_scene(source("scenes/artroom.nff")));
+void expect_same_walk(render_mode mode, const std::string& scene_file = source("scenes/artroom.nff")) {
+  const world w = make_world(load_scene(scene_file));
   auto walk = [&](bool lists) {
     frame_params p;
     p.mode = mode;
@@ -271,6 +271,13 @@ void expect_same_walk(render_mode mode) {
 
 TEST(LightCache, FullWalkImagesDoNotChange) { expect_same_walk(render_mode::full); }
 TEST(LightCache, InterpWalkImagesDoNotChange) { expect_same_walk(render_mode::interp); }
+
+// Meshes of small triangles and many lights (gears-s2: five, polygons of up to 144 vertices;
+// teapot-s6: a floor whose shadow rays graze the teapot), where cells list many slots.
+TEST_P(LightCacheSpd, FullWalkImagesDoNotChange) {
+  EPSRAY_REQUIRE_SPD(GetParam());
+  expect_same_walk(render_mode::full, test::spd_scene(GetParam()).string());
+}
 
 TEST(LightCache, BaseModeNeverAsks) {
   const world w = make_world(load_scene(source("scenes/artroom.nff")));
