@@ -21,11 +21,15 @@ inline int left_flat(const world& w, int prim) {
 }
 
 // The light cache's answer (accel/light_cache.h), else the BVH's. Out of line: base mode,
-// the reference, has no cache and keeps its shading loop as it was.
+// the reference, has no cache and keeps its shading loop as it was. While a ray tree is
+// recorded (a build), which names the blocker, a lit answer from the lists is taken (lit is
+// lit whichever structure says so), but a blocked ray asks the BVH for the blocker the tree
+// names, so trees are those without the cache; those rays are not counted for its rest rule.
 [[gnu::noinline]] int listed_blocker_of(const world& w, const ray& r, float dist, size_t light, int prim,
                                         trace_state& st) {
-  ++st.counts.shadow_asked;
   const int b = st.lights->blocker(light, r, dist, left_flat(w, prim));
+  if (st.tree) return b == -1 ? -1 : first_blocker(w, r, dist);
+  ++st.counts.shadow_asked;
   if (b == light_cache::not_listed) return first_blocker(w, r, dist);
   ++st.counts.shadow_listed;
   return b;
@@ -39,7 +43,7 @@ int shadow_blocker(const world& w, const ray& r, float dist, size_t light, int p
     float t;
     if (last >= 0 && hit_shape(w.shapes[size_t(last)], w.polys, r, dist, t)) return last;
   }
-  const int b = st.lights && !st.tree ? listed_blocker_of(w, r, dist, light, prim, st) : first_blocker(w, r, dist);
+  const int b = st.lights ? listed_blocker_of(w, r, dist, light, prim, st) : first_blocker(w, r, dist);
   if (cached) st.last_blocker[light] = b;
   return b;
 }

@@ -51,8 +51,9 @@ struct trace_state {
   // state traced before. One state per tile keeps it off other threads' tiles.
   int last_blocker[shadow_cache_lights] = {-1, -1, -1, -1, -1, -1, -1, -1};
   // Interp and full modes: shadow rays are tested against the light cache's lists, which
-  // give the BVH walk's answer (accel/light_cache.h); bypassed while a ray tree is recorded,
-  // as the last blocker is. Null (base mode, the reference): every shadow ray walks the BVH.
+  // give the BVH walk's answer (accel/light_cache.h); while a ray tree is recorded, which
+  // names the blocker, only their lit answers are taken and a blocked ray asks the BVH for
+  // its blocker. Null (base mode, the reference): every shadow ray walks the BVH.
   const light_cache* lights = nullptr;
   // When set, shading at depth 1 stores the factor the root's texture multiplies
   // (A*Kd*C + sum of lit Ij*Kd*C*dot(Nf, Lj), texture excluded) and the root's uv, so an
