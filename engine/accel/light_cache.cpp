@@ -102,7 +102,7 @@ void light_cache::build(buffer& b, vec3 light, int res, size_t max_entries) cons
     for (int f = 0; f < 6; ++f) {
       face_grid& g = b.faces[f];
       g = face_grid{};
-      g.first = size_t(f) * face_cells, g.res = res;
+      g.first = size_t(f) * face_cells;
       face_range r;
       if (!range_on_face(all, l, f / 2, f % 2, r)) continue;  // no primitive in this face: one empty cell
       g.u0 = float(r.u0), g.v0 = float(r.v0);

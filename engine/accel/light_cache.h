@@ -40,8 +40,8 @@ class light_cache {
     const int a1 = a == 2 ? 0 : a + 1, a2 = a == 0 ? 2 : a - 1;
     const int f = 2 * a + (d[a] < 0);
     const face_grid& g = b.faces[f];
-    const size_t c = g.first + size_t(g.cell(d[a2] / m[a], g.v0, g.sv)) * size_t(g.res) +
-                     size_t(g.cell(d[a1] / m[a], g.u0, g.su));
+    const size_t c = g.first + size_t(face_grid::cell(d[a2] / m[a], g.v0, g.sv, b.res)) * size_t(b.res) +
+                     size_t(face_grid::cell(d[a1] / m[a], g.u0, g.su, b.res));
     const std::uint32_t first = b.start[c], last = b.start[c + 1];
     if (last - first > std::uint32_t(max_list)) return not_listed;
     // A hit at t < dist lies nearer the light than the origin (dist, less what rounding moves).
@@ -79,14 +79,13 @@ class light_cache {
     float near;  // the distance from the light to the slot's box, rounded down
   };
   // A face's grid spans only the rectangle of it that the scene's box covers (a far light
-  // sees the scene in a small part of one face): res x res cells from (u0, v0), su and sv
-  // cells per unit. A direction outside it is clamped to the nearest cell: no primitive
+  // sees the scene in a small part of one face): the buffer's res x res cells from (u0, v0),
+  // su and sv cells per unit. A direction outside it is clamped to the nearest cell: no primitive
   // lies that way, so the ray meets none of what that cell lists.
   struct face_grid {
     size_t first = 0;  // the index of the face's first cell
     float u0 = 0, v0 = 0, su = 0, sv = 0;
-    int res = 0;
-    int cell(float u, float lo, float s) const {
+    static int cell(float u, float lo, float s, int res) {
       const float x = (u - lo) * s;
       return x >= 1 ? int(std::min(x, float(res - 1))) : 0;  // clamped before the cast; NaN too
     }
