@@ -4,6 +4,7 @@
 // same ray tree and interpolates within the proven error.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <map>
 #include <random>
 #include <thread>
@@ -514,7 +515,8 @@ struct sound_stats {
   int accepted = 0, rejected = 0;
   int accepted_in_shadow = 0;  // accepted cells whose topology has a light blocked
   int deferred = 0;            // accepted cells with a deferred light or subtree
-  int listed = 0;              // ... whose deferred lights test listed candidate blockers
+  int listed = 0;              // ... whose deferred lights test listed candidate blockers or none
+  int proven = 0;              // deferred lights whose shafts hold nothing: lit with no shadow ray
   std::map<int, int> accepted_on;  // accepted cells per primitive id
 };
 
@@ -566,8 +568,11 @@ void check_soundness(const world& w, int samples_per_cell, int depth_lo, int dep
         ++st.accepted;
         ++st.accepted_on[h.prim];
         st.deferred += (b.deferred | b.deferred_rays) != 0;
-        st.listed += b.shadow.lights != 0;
+        st.listed += (b.shadow.lights | b.shadow.lit) != 0;
         ASSERT_EQ(b.shadow.lights & ~b.deferred, 0u) << "candidates listed for a light that is not deferred";
+        ASSERT_EQ(b.shadow.lit & ~b.deferred, 0u) << "a light proven lit that is not deferred";
+        ASSERT_EQ(b.shadow.lit & b.shadow.lights, 0u) << "a light both proven lit and listed";
+        st.proven += std::popcount(b.shadow.lit);
         for (std::int32_t status : corner_trees[0].lights) st.accepted_in_shadow += status >= 0;
         // The corners without their deferred terms, computed the way a pixel computes them.
         for (int k = 0; k < 16; ++k) {
@@ -593,14 +598,15 @@ void check_soundness(const world& w, int samples_per_cell, int depth_lo, int dep
           glm::vec3 f = shade_hit(w, lr, hit{t, h.prim}, 1, ts);
           ts.tree = nullptr;
           const glm::vec3 exact = deferred_terms(w, lr, hit{t, h.prim}, b.deferred, b.deferred_rays, ts);
-          // The per-pixel shadow rays against the listed candidates alone: the BVH walk's answer.
+          // The per-pixel shadow rays against the listed candidates alone, and none for lights
+          // proven lit: the BVH walk's answer.
           const int tex = w.sc.materials[size_t(w.info[size_t(h.prim)].material)].texture;
           const surface sfc = surface_at(w, h.prim, lr, t);
           const glm::vec3 texel =
               tex >= 0 ? sample_texture(w.sc.textures[size_t(tex)], surface_uv(w, h.prim, sfc.p)) : glm::vec3(1);
           const glm::vec3 listed =
               deferred_terms(w, lr, hit{t, h.prim}, sfc, texel, b.deferred, b.deferred_rays, &b.shadow, ts);
-          for (int ch = 0; ch < 3; ++ch) ASSERT_EQ(listed[ch], exact[ch]) << "a listed shadow ray missed its blocker";
+          for (int ch = 0; ch < 3; ++ch) ASSERT_EQ(listed[ch], exact[ch]) << "a listed or proven-lit shadow ray missed its blocker";
           f -= exact;
           std::uint32_t pl = 0, pr = 0;
           ASSERT_TRUE(same_topology_deferring(corner_trees[0], probe, nl, defer, &pl, &pr))
@@ -660,6 +666,7 @@ p 4
     EXPECT_GT(s.rejected, defer ? 0 : 5);
     EXPECT_EQ(s.deferred > 5, defer);  // cells across the occluder's shadow, the glass' edges, ...
     EXPECT_EQ(s.listed > 5, defer);
+    EXPECT_EQ(s.proven > 5, defer);
   }
 }
 
@@ -701,6 +708,7 @@ p 6
     EXPECT_GT(s.accepted_in_shadow, 5);
     EXPECT_EQ(s.deferred > 5, defer);  // cells across the umbras' edges
     EXPECT_EQ(s.listed > 5, defer);
+    EXPECT_EQ(s.proven > 5, defer);
   }
 }
 
@@ -984,6 +992,7 @@ TEST(Predicate, SoundOnWideCellsOfAShinyFloor) {
     check_soundness(world_of(shiny_floor), 24, 2, 8, s, defer);
     EXPECT_GT(s.accepted, 50);
     EXPECT_EQ(s.deferred > 0, defer);
+    EXPECT_EQ(s.proven > 100, defer);  // highlights too curved for wide cells, on lights nothing blocks
   }
 }
 

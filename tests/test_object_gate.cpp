@@ -235,7 +235,7 @@ TEST(ObjectGate, GlassSphereIsTracedWhileTheWallKeepsItsCellsWithinEps) {
 
 TEST(ObjectGate, CloseGlassGoesPlainWithinEps) {
   const world w = test::world_from_text(close_glass_scene());
-  const gated_walk on = walk(w, 12, 2, true, true, tile_order::costly_first);
+  const gated_walk on = walk(w, 16, 2, true, true, tile_order::costly_first);
   int plain = 0;
   for (int k : on.plain) plain += k;
   EXPECT_GE(plain, 4) << "the cells serve too little: frames are traced plainly";

@@ -104,13 +104,20 @@ struct evaluator {
       shadow_candidates next = shadow;
       const bounds light = with_rounding_margin(bounds{w.light_pos[j], w.light_pos[j]});
       const shaft s = make_shaft(from, light);
+      bool met = false;
       const bool over = for_each_shape_in_shaft(w, s, from, light, [&](int id) {
-        if (id == self || std::find(next.prims, next.prims + next.count, id) != next.prims + next.count) return false;
+        if (id == self) return false;
+        met = true;
+        if (std::find(next.prims, next.prims + next.count, id) != next.prims + next.count) return false;
         if (next.count == shadow_candidates::max_prims) return true;
         next.prims[next.count++] = id;
         return false;
       });
       if (over) continue;  // light j keeps the BVH walk
+      if (!met) {  // nothing to test: every pixel's shadow ray reaches the light
+        shadow.lit |= 1u << j;
+        continue;
+      }
       next.lights |= 1u << j;
       shadow = next;
     }

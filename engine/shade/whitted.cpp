@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "shade/surface.h"
 #include "shade/texture.h"
@@ -86,6 +87,11 @@ inline int shadow_ray(const world& w, vec3 above, size_t j, trace_state& st, Blo
   return dist > 0 ? blocker_of(make_ray(above, so / dist), dist) : -1;
 }
 
+// The blocker of a light whose shaft a cell proved empty (shadow_candidates::lit): none,
+// with no shadow ray. light_at's one body shades it, so its term is the reference's bit
+// for bit (a second copy of the arithmetic may be contracted into other multiply-adds).
+struct proven_lit {};
+
 template <class Blocker>
 inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above, vec3 nf, vec3 v, size_t j,
                            trace_state& st, Blocker&& blocker_of) {
@@ -93,7 +99,9 @@ inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above
   const vec3 lj = safe_normalize(w.light_pos[j] - p);
   out.ndl = glm::dot(nf, lj);
   if (!(out.ndl > 0)) return out;
-  const int blocker = shadow_ray(w, above, j, st, blocker_of);
+  int blocker = -1;
+  if constexpr (std::is_same_v<std::decay_t<Blocker>, proven_lit>) ++st.counts.shadow_proven;
+  else blocker = shadow_ray(w, above, j, st, blocker_of);
   out.status = blocker >= 0 ? w.info[size_t(blocker)].source : light_lit;
   if (blocker < 0) out.spec = specular_power(m, nf, lj, v);
   return out;
@@ -329,6 +337,11 @@ vec3 terms_within(const world& w, const material& m, const ray& r, int prim, con
   vec3 room = error_room(known + L, err + spent, eps);
   for (size_t j = 0; j < nl; ++j) {
     if (!every && !(lights >> j & 1)) continue;
+    if (cands && j < size_t(max_deferred_lights) && (cands->lit >> j & 1)) {  // exact: nothing charged to the room
+      const light_term lt = light_at(w, m, sf.p, above, nf, v, j, st, proven_lit{});
+      if (lt.status == light_lit) L += lit_term(w, m, kd_c, j, lt.ndl, lt.spec);
+      continue;
+    }
     const bool listed = cands && j < size_t(max_deferred_lights) && (cands->lights >> j & 1);
     const allowed_light al =
         listed ? light_within(w, m, kd_c, sf.p, above, nf, v, j, 1.0f, room, st, listed_blocker{w, *cands})
@@ -372,9 +385,11 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& s
     const vec3 above = sf.p + w.delta * nf;
     for (size_t j = 0; j < w.light_pos.size() && j < size_t(max_deferred_lights); ++j) {
       if (!(lights >> j & 1)) continue;
+      const bool proven = cands && (cands->lit >> j & 1);
       const bool listed = cands && (cands->lights >> j & 1);
-      const light_term lt = listed ? light_at_listed(w, m, sf.p, above, nf, -r.d, j, *cands, st)
-                                   : light_at(w, m, sf.p, above, nf, -r.d, j, h.prim, st);
+      const light_term lt = proven   ? light_at(w, m, sf.p, above, nf, -r.d, j, st, proven_lit{})
+                            : listed ? light_at_listed(w, m, sf.p, above, nf, -r.d, j, *cands, st)
+                                     : light_at(w, m, sf.p, above, nf, -r.d, j, h.prim, st);
       if (lt.status == light_lit) L += lit_term(w, m, kd_c, j, lt.ndl, lt.spec);
     }
   }

@@ -20,11 +20,14 @@ struct ray_counts {
   // Of the shadow rays, those that asked the light cache (accel/light_cache.h) and those it
   // answered from a cell's list instead of a BVH walk: still rays cast, in shadow and total().
   std::uint64_t shadow_asked = 0, shadow_listed = 0;
+  // Deferred lights a cell proved lit at every pixel (shadow_candidates::lit), shaded with
+  // no shadow ray: not rays, so not in total().
+  std::uint64_t shadow_proven = 0;
   std::uint64_t total() const { return eye + reflect + refract + shadow; }
   ray_counts& operator+=(const ray_counts& o) {
     eye += o.eye, reflect += o.reflect, refract += o.refract, shadow += o.shadow;
     shadow_bounded += o.shadow_bounded, secondary_bounded += o.secondary_bounded;
-    shadow_asked += o.shadow_asked, shadow_listed += o.shadow_listed;
+    shadow_asked += o.shadow_asked, shadow_listed += o.shadow_listed, shadow_proven += o.shadow_proven;
     return *this;
   }
 };
@@ -101,9 +104,14 @@ inline vec3 error_room(vec3 known, vec3 err, float eps) {
 // The primitives that may block deferred lights' shadow rays, for a cell whose shadow
 // shafts hold few of them: each listed light's per-pixel shadow ray is tested against
 // these alone, which gives the BVH walk's answer since no other primitive meets its shaft.
+// A deferred light whose shaft nothing meets (`lit`) reaches every pixel of the cell: its
+// term is computed per pixel as the reference computes it, with no shadow ray (the cell's
+// corners disagree on it only through its diffuse cosine or highlight, too curved to
+// interpolate, or its side of the surface).
 struct shadow_candidates {
   static constexpr int max_prims = 6;
   std::uint32_t lights = 0;  // bit j: light j's shaft is covered by prims
+  std::uint32_t lit = 0;     // bit j: light j's shaft holds no primitive at all
   int count = 0;
   std::int32_t prims[max_prims] = {};
 };
