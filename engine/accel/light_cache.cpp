@@ -98,15 +98,19 @@ void light_cache::build(buffer& b, vec3 light, int res, size_t max_entries) cons
   // Filled nearest first, so each cell's list is sorted by distance from the light.
   std::stable_sort(order.begin(), order.end(), [](const entry& x, const entry& y) { return x.near < y.near; });
   for (; res >= min_res; res /= 2) {
-    const size_t face_cells = size_t(res) * size_t(res);
+    size_t cells = 0;
     for (int f = 0; f < 6; ++f) {
       face_grid& g = b.faces[f];
       g = face_grid{};
-      g.first = size_t(f) * face_cells;
+      g.first = cells;
       face_range r;
-      if (!range_on_face(all, l, f / 2, f % 2, r)) continue;  // no primitive in this face: one empty cell
+      if (!range_on_face(all, l, f / 2, f % 2, r)) {  // no primitive in this face: one empty cell,
+        cells += 1;                                    // which su = 0 sends every lookup to
+        continue;
+      }
       g.u0 = float(r.u0), g.v0 = float(r.v0);
       g.su = float(res / std::max(r.u1 - double(g.u0), 1e-30)), g.sv = float(res / std::max(r.v1 - double(g.v0), 1e-30));
+      cells += size_t(res) * size_t(res);
     }
     struct rect {
       size_t first;
@@ -114,7 +118,7 @@ void light_cache::build(buffer& b, vec3 light, int res, size_t max_entries) cons
     };
     std::vector<rect> rects;
     std::vector<std::uint32_t> rect_of(n + 1, 0);  // primitive order[k]'s rects: [rect_of[k], rect_of[k + 1])
-    std::vector<std::uint32_t> count(6 * face_cells, 0);
+    std::vector<std::uint32_t> count(cells, 0);
     size_t total = 0;
     for (size_t k = 0; k < n && total <= max_entries; ++k) {
       const bounds& bx = box[size_t(order[k].slot)];

@@ -19,6 +19,14 @@
 
 namespace epsray {
 
+// The primitive a shadow ray from a hit on `prim` can never meet again, for
+// light_cache::blocker's `self` (-1: none or unsure): a flat one (cannot_reenter whichever
+// side it is left from), left towards the light's side by delta, which every shadow ray is
+// (none is cast towards a light behind the surface).
+inline int shadow_self(const world& w, int prim) {
+  return cannot_reenter(w.shapes[size_t(prim)].kind, false, w.info[size_t(prim)].patch) ? prim : -1;
+}
+
 class light_cache {
  public:
   // A cell listing more than this leaves its rays to the BVH.
@@ -67,8 +75,9 @@ class light_cache {
   void next_frame(bool used, std::uint64_t asked, std::uint64_t answered);
   bool in_use() const { return wait_ == 0; }
 
-  // Cells per face side of light j's buffer (0: none).
+  // Cells per face side of light j's buffer (0: none), and its cells in all.
   int resolution(size_t j) const { return j < bufs_.size() ? bufs_[j].res : 0; }
+  size_t cells(size_t j) const { return j < bufs_.size() && !bufs_[j].start.empty() ? bufs_[j].start.size() - 1 : 0; }
   size_t bytes() const;
 
  private:
@@ -80,7 +89,7 @@ class light_cache {
   };
   // A face's grid spans only the rectangle of it that the scene's box covers (a far light
   // sees the scene in a small part of one face): the buffer's res x res cells from (u0, v0),
-  // su and sv cells per unit. A direction outside it is clamped to the nearest cell: no primitive
+  // su and sv cells per unit; a face the box misses has one empty cell and su = sv = 0. A direction outside it is clamped to the nearest cell: no primitive
   // lies that way, so the ray meets none of what that cell lists.
   struct face_grid {
     size_t first = 0;  // the index of the face's first cell
@@ -94,7 +103,9 @@ class light_cache {
     vec3 light{0};
     int res = 0;  // 0: no buffer, every ray walks the BVH
     face_grid faces[6];
-    std::vector<std::uint32_t> start;  // 6 res^2 + 1: cell c lists list[start[c], start[c + 1])
+    // res^2 cells per face the scene covers, 1 per other face, and 1: cell c lists
+    // list[start[c], start[c + 1])
+    std::vector<std::uint32_t> start;
     std::vector<entry> list;
   };
   void build(buffer& b, vec3 light, int res, size_t max_entries) const;

@@ -14,13 +14,6 @@ namespace {
 // Unit d and nf give a unit reflection (whitted.md 4); no normalize on the hot path.
 vec3 reflect_dir(vec3 d, vec3 nf) { return d - 2 * glm::dot(d, nf) * nf; }
 
-// The primitive a shadow ray leaves that it can never meet again (-1: none or unsure): a
-// flat one (cannot_reenter whichever side it is left from), left towards the light's side
-// by delta, which is every shadow ray (light_at casts none for a light behind the surface).
-inline int left_flat(const world& w, int prim) {
-  return cannot_reenter(w.shapes[size_t(prim)].kind, false, w.info[size_t(prim)].patch) ? prim : -1;
-}
-
 // The light cache's answer (accel/light_cache.h), else the BVH's. Out of line: base mode,
 // the reference, has no cache and keeps its shading loop as it was. While a ray tree is
 // recorded (a build), which names the blocker, a lit answer from the lists is taken (lit is
@@ -28,7 +21,7 @@ inline int left_flat(const world& w, int prim) {
 // names, so trees are those without the cache; those rays are not counted for its rest rule.
 [[gnu::noinline]] int listed_blocker_of(const world& w, const ray& r, float dist, size_t light, int prim,
                                         trace_state& st) {
-  const int b = st.lights->blocker(light, r, dist, left_flat(w, prim));
+  const int b = st.lights->blocker(light, r, dist, shadow_self(w, prim));
   if (st.tree) return b == -1 ? -1 : first_blocker(w, r, dist);
   ++st.counts.shadow_asked;
   if (b == light_cache::not_listed) return first_blocker(w, r, dist);

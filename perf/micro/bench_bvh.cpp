@@ -208,7 +208,7 @@ ray_set shadow_rays(const world& w, const ray_set& eye, std::vector<std::uint32_
       set.rays.push_back(make_ray(above, so / dist));
       set.tmax.push_back(dist);
       light.push_back(std::uint32_t(j));
-      self.push_back(cannot_reenter(w.shapes[size_t(h.prim)].kind, false, w.info[size_t(h.prim)].patch) ? h.prim : -1);
+      self.push_back(shadow_self(w, h.prim));
     }
   }
   return set;
