@@ -89,8 +89,9 @@ class light_cache {
   };
   // A face's grid spans only the rectangle of it that the scene's box covers (a far light
   // sees the scene in a small part of one face): the buffer's res x res cells from (u0, v0),
-  // su and sv cells per unit; a face the box misses has one empty cell and su = sv = 0. A direction outside it is clamped to the nearest cell: no primitive
-  // lies that way, so the ray meets none of what that cell lists.
+  // su and sv cells per unit; a face the box misses has one empty cell and su = sv = 0. A
+  // direction outside it is clamped to the nearest cell: no primitive lies that way, so the
+  // ray meets none of what that cell lists.
   struct face_grid {
     size_t first = 0;  // the index of the face's first cell
     float u0 = 0, v0 = 0, su = 0, sv = 0;
