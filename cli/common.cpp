@@ -77,10 +77,8 @@ void write_text_file(const std::string& path, const std::string& text) {
 // Every command is built now (view landed with issue 6); the hook stays for the next one.
 void reject_unbuilt(const cli_options& o) {}
 
-void check_finite(const image& img) {
-  for (const glm::vec3& p : img.pixels)
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-      throw std::runtime_error("internal error: a pixel is not finite; nothing written");
+void check_finite(const frame_result& fr) {
+  if (!fr.finite) throw std::runtime_error("internal error: a pixel is not finite; nothing written");
 }
 
 void open_reprojection(const cli_options& o, reprojection_state& reproj) {

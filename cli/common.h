@@ -26,7 +26,7 @@ void write_text_file(const std::string& path, const std::string& text);
 // Commands not built yet fail before any work, with a clear message (exit 1).
 void reject_unbuilt(const cli_options& o);
 // A NaN or infinite pixel is an internal error: nothing is written.
-void check_finite(const image& img);
+void check_finite(const frame_result& fr);
 frame_params make_frame_params(const cli_options& o, linetree_set* trees, reprojection_state* reproj);
 
 // `--reproject osmesa` in full mode: loads OSMesa into reproj (throws, exit 1, where it

@@ -122,7 +122,7 @@ int run_render(const cli_options& o) {
     bar.show(3, phases, "verifying", left);
     vr = verify_frame(pool, w, cam, fr.img, o.eps);
   }
-  check_finite(fr.img);
+  check_finite(fr);
   if (int s = interrupt_signal()) return interrupted(bar, s);
 
   bar.show(phases - 1, phases, "writing", -1);

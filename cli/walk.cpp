@@ -124,7 +124,7 @@ walk_frames::rendered walk_frames::render(int k, int first, int last) {
   rendered r;
   r.fr = render_frame(pool_, w_, cam, fp_);
   fp_.next_camera = nullptr;
-  check_finite(r.fr.img);
+  check_finite(r.fr);
   if (o_.verify && !interrupt_signal()) r.vr = verify_frame(pool_, w_, cam, r.fr.img, o_.eps);
   return r;
 }

@@ -384,6 +384,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   // The tiles, dearest first by last frame's costs (tile_queue.h). A plain frame's are base's.
   const render_mode tile_mode = plain ? render_mode::base : p.mode;
   std::vector<std::uint64_t> tile_ticks(tiles.size());
+  std::vector<std::uint8_t> tile_finite(tiles.size());
   out.shade = run_tiles(pool, pool.history().order(tiles.size(), p.order), [&](size_t i) {
     const std::uint64_t c0 = cycle_now();
     trace_state st;
@@ -426,10 +427,12 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
         (tile_mode == render_mode::base || tile_mode == render_mode::upsample || tile_mode == render_mode::reuse))
       for (int y = tiles[i].y0; y < tiles[i].y1; ++y)
         for (int x = 0; x < cam.width; ++x) out.reasons.at(x, y) = reason_colour(pixel_reason::traced);
+    tile_finite[i] = all_finite(out.img, tiles[i].y0, tiles[i].y1);  // while the rows are in this core's cache
     tile_ticks[i] = cycle_now() - c0;
     if (p.rows_done) p.rows_done->fetch_add(tiles[i].y1 - tiles[i].y0, std::memory_order_relaxed);
   });
   pool.history().ticks = std::move(tile_ticks);
+  out.finite = std::find(tile_finite.begin(), tile_finite.end(), 0) == tile_finite.end();
   const auto a0 = std::chrono::steady_clock::now();
   if (reuse) std::swap(reuse->last, reuse->next);
   for (const tile_totals& t : totals) {

@@ -115,6 +115,9 @@ struct frame_result {
   // (engine/interp/object_gate.h).
   std::uint64_t objects_off = 0;
   bool plain = false;  // full: traced plainly, no cells (object_gate.h, plain_gain)
+  // Every pixel of img is finite: checked by each tile after shading it, in parallel (a
+  // serial scan of the image after the frame cost 0.4 ms a frame at 800x600).
+  bool finite = true;
   // Full: the pixels of the probe that decided whether this frame keeps its cells, and its
   // wall time (frame_probe.h); 0 when none ran.
   std::uint64_t probe_pixels = 0;

@@ -166,7 +166,28 @@ TEST(Frame, RepositoryScenesRenderFiniteOnAnyThreadCount) {
     expect_same_counts(a.rays, b.rays);
     for (const glm::vec3& p : a.img.pixels)
       ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && p.x >= 0 && p.y >= 0 && p.z >= 0);
+    EXPECT_TRUE(a.finite && b.finite);  // each tile's own check agrees
   }
+}
+
+// The tiles' finiteness check (frame_result::finite) sees a NaN or an infinity in any
+// channel of the rows it is given, and nothing outside them.
+TEST(Frame, AllFiniteFindsEveryNonFiniteChannelInItsRows) {
+  const float bad[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                       -std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::quiet_NaN()};
+  image im(7, 5);
+  im.at(3, 2) = glm::vec3(std::numeric_limits<float>::max(), std::numeric_limits<float>::denorm_min(), -0.0f);
+  EXPECT_TRUE(all_finite(im, 0, 5));
+  for (float v : bad)
+    for (int c = 0; c < 3; ++c) {
+      image j = im;
+      j.at(6, 2)[c] = v;
+      EXPECT_FALSE(all_finite(j, 0, 5));
+      EXPECT_FALSE(all_finite(j, 2, 3));
+      EXPECT_TRUE(all_finite(j, 0, 2));
+      EXPECT_TRUE(all_finite(j, 3, 5));
+      EXPECT_TRUE(all_finite(j, 2, 2));
+    }
 }
 
 TEST(Frame, TileSizesGiveIdenticalImages) {

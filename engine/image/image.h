@@ -1,5 +1,7 @@
 // Linear RGB radiance, top row first (whitted.md 7).
 #pragma once
+#include <cstdint>
+#include <cstring>
 #include <glm/glm.hpp>
 #include <memory>
 #include <utility>
@@ -41,5 +43,19 @@ struct image {
   glm::vec3& at(int x, int y) { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
   const glm::vec3& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
 };
+
+// Every channel of rows [y0, y1) is finite: no NaN, no infinity (an exponent of all ones).
+// Branch-free, so the compiler vectorizes it.
+inline bool all_finite(const image& im, int y0, int y1) {
+  const float* v = reinterpret_cast<const float*>(im.pixels.data()) + size_t(y0) * size_t(im.width) * 3;
+  const size_t n = size_t(y1 - y0) * size_t(im.width) * 3;
+  std::uint32_t bad = 0;
+  for (size_t i = 0; i < n; ++i) {
+    std::uint32_t b;
+    std::memcpy(&b, v + i, sizeof b);
+    bad |= std::uint32_t((b & 0x7f800000u) == 0x7f800000u);
+  }
+  return bad == 0;
+}
 
 }  // namespace epsray
