@@ -11,6 +11,9 @@
 #                                 and N-1 workers (the reprojection thread makes N), then
 #                                 the machine's own ceiling (N one-thread base walks at
 #                                 once against one alone), then the scaling sweep, 3 reps
+#   perf/scaling/device.sh ceiling there: base and full on all threads as a share of the
+#                                 machine's own limit, N one-thread walks at once
+#                                 (perf/scaling/ceiling.py, 2 reps); results under $OUT
 #   perf/scaling/device.sh extras there: N one-thread walks at once against one alone,
 #                                 thread time on 1 and N threads, the art-room walk at all
 #                                 threads, and the reprojection methods at N and N-1 threads
@@ -66,6 +69,9 @@ pipeline)
     --variant pipeline=$E,--pipeline --variant pipeline-1=$E,--pipeline,--threads,$((n - 1)) --out "$OUT/pipeline$n.md" | tail -5
   for k in 1 "$n" 1; do at_once base "$k"; done | tee "$OUT/ceiling.log"
   sweep "$n" 3 ;;
+ceiling)
+  export PYTHONUNBUFFERED=1
+  python3 perf/scaling/ceiling.py --exe $E --spd .dev/spd --reps 2 --out "$OUT/ceiling.md" ;;
 extras)
   export PYTHONUNBUFFERED=1
   n=$(nproc)
@@ -84,5 +90,5 @@ print('$mode $t threads: frame ms %.1f, thread time ms %.1f' % (st.median(f['ms'
   for t in "$n" $((n - 1)); do
     python3 perf/reproject/bench.py --exe $E --threads "$t" --reps 3 --methods exact --out "$OUT/reproject$t.md" | tail -5
   done ;;
-*) echo "usage: perf/scaling/device.sh pack [OLD]|run|pipeline|extras" >&2; exit 2 ;;
+*) echo "usage: perf/scaling/device.sh pack [OLD]|run|pipeline|ceiling|extras" >&2; exit 2 ;;
 esac
