@@ -10,7 +10,7 @@ builds a cell, and in what order, cannot move the counts.
 
 The figure compared is cachegrind's own rough cost estimate,
     est = Ir + 10 (D1 misses + I1 misses) + 100 LL misses,
-(the weights kcachegrind's "cycle estimation" uses), beside the plain instruction count
+(the weights of kcachegrind's cycle estimate, less its branch term), beside the plain instruction count
 Ir. Neither is time: a division, a square root or a mispredicted branch counts as one
 instruction. So a figure from here says which of two variants does less; pair.py, or a
 quiet machine, says whether the clock agrees. Under valgrind a command runs about 60x
@@ -27,6 +27,7 @@ import argparse
 import os
 import re
 import shlex
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -74,11 +75,17 @@ def main():
     ap.add_argument("--keep", metavar="DIR",
                     help="keep the two cachegrind.out files in DIR (a.out, b.out) for cg_annotate")
     a = ap.parse_args()
-    if subprocess.run(["valgrind", "--version"], capture_output=True).returncode != 0:
+    if not shutil.which("valgrind"):
         print("work.py: valgrind is not installed (apt-get install valgrind)", file=sys.stderr)
         return 2
-    folder = a.keep or tempfile.mkdtemp(prefix="epsray-work-")
-    os.makedirs(folder, exist_ok=True)
+    if a.keep:
+        os.makedirs(a.keep, exist_ok=True)
+        return compare(a, a.keep)
+    with tempfile.TemporaryDirectory(prefix="epsray-work-") as folder:
+        return compare(a, folder)
+
+
+def compare(a, folder):
     cmds = {"A": with_defaults(a.a), "B": with_defaults(a.b)}
     procs = {k: start(w, os.path.join(folder, k.lower() + ".out")) for k, w in cmds.items()}
     res = {}
