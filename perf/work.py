@@ -5,14 +5,15 @@ pair.py's ratios on this project's 2-core VM spread by 20-40% between pairs minu
 so a change worth 2-5% cannot be seen there in any number of rounds one can wait for.
 This script runs each command under valgrind's cachegrind, which counts the instructions
 executed and simulates the caches: the same command gives the same counts on any day and
-under any load. Give each command `--threads 1 --tile-order scan`, so that which thread
-builds a cell, and in what order, cannot move the counts.
+under any load. An epsray walk or render gets `--threads 1` and `--tile-order scan` where
+it names neither (and a walk `--quiet`), so that which thread builds a cell, and in what
+order, cannot move the counts.
 
 The figure compared is cachegrind's own rough cost estimate,
     est = Ir + 10 (D1 misses + I1 misses) + 100 LL misses,
-(the weights of kcachegrind's cycle estimate, less its branch term), beside the plain instruction count
-Ir. Neither is time: a division, a square root or a mispredicted branch counts as one
-instruction. So a figure from here says which of two variants does less; pair.py, or a
+(the weights of kcachegrind's cycle estimate, less its branch term), beside the plain
+instruction count Ir. Neither is time: a division, a square root or a mispredicted branch
+counts as one instruction. So a figure from here says which of two variants does less; pair.py, or a
 quiet machine, says whether the clock agrees. Under valgrind a command runs about 60x
 slower: choose small sizes and short paths (400x300 and 15 frames take about a minute).
 
@@ -20,7 +21,6 @@ slower: choose small sizes and short paths (400x300 and 15 frames take about a m
         --a "build/epsray walk scenes/artroom.nff --path P --size 400x300 --mode base" \\
         --b "build/epsray walk scenes/artroom.nff --path P --size 400x300 --mode full"
 
-`--threads 1 --tile-order scan --quiet` are added to a command that names none of them.
 Both commands run at once, one per core; the counts do not depend on that.
 """
 import argparse
