@@ -321,13 +321,15 @@ TEST(Reprojection, CellIsTrustedWithTheOccludersItsPixelsMustTest) {
 // The art room's cells after a first frame, seen from the next eye (stepped forward and
 // turned a little, so cells land on new pixels): each cell's trust and pixel rectangle.
 struct next_eye {
-  world w = make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/artroom.nff"));
+  world w;
   linetree_set trees{w.prim_bounds};
   reprojection_state reproj;
   camera cam;
   std::vector<cell_trust> trusted;
   std::vector<pixel_rect> rects;
-  next_eye(int width, int height) {
+  next_eye(int width, int height)
+      : next_eye(make_world(load_scene(std::string(EPSRAY_SOURCE_DIR) + "/scenes/artroom.nff")), width, height) {}
+  next_eye(world scene, int width, int height) : w(std::move(scene)) {
     workers pool(2);
     frame_params p;
     p.mode = render_mode::full, p.interp.eps = 0.05f, p.trees = &trees, p.reproj = &reproj;
@@ -383,6 +385,54 @@ TEST(Reprojection, BoxFaceCellsOwnOnlyPixelsOnTheirFace) {
   EXPECT_GT(checked_cells, 5);
   EXPECT_GT(owned, 100);
   EXPECT_GT(off_face, 100) << "lines in the cells that miss the face";
+}
+
+// fill_pixel meets a trusted cell's flat object (polygon or disk) by its plane alone: a valid
+// cell's lines are proven to meet it inside its outline. Every pixel whose line lies in such
+// a cell must then meet the object by the full test, outline included, at the same t.
+// The sweep scene with a disk between the wall and the sphere.
+const std::string disk_scene = std::string(sweep_scene) + "f 0.3 0.5 0.9 0.8 0 0 0 1\ndisk 0 1 0  0 0.3 1  1.5\n";
+
+// Checks every pixel of the trusted flat cells; returns the pixels checked on polygons and
+// on disks.
+std::pair<size_t, size_t> flat_cells_meet_their_object(next_eye& e) {
+  const world& w = e.w;
+  const camera& cam = e.cam;
+  const std::vector<cell_ref>& cells = e.reproj.cells;
+  size_t polygon_pixels = 0, disk_pixels = 0;
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (!e.trusted[i].ok) continue;
+    const shape& s = w.shapes[size_t(scene_prim_of(w, cells[i].prim))];
+    if (s.kind != shape_kind::polygon && s.kind != shape_kind::disk) continue;
+    const pixel_rect& r = e.rects[i];
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x) {
+        float x4[4];
+        if (!eye_line_in_cell(cam, cells[i], x, y, x4)) continue;
+        const ray ray_ = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
+        float t = 0;
+        const bool hit = hit_shape(s, w.polys, ray_, INFINITY, t);
+        EXPECT_TRUE(hit) << "cell " << i << ", pixel " << x << "," << y;
+        if (!hit) continue;
+        const glm::vec3 n = s.kind == shape_kind::polygon ? s.poly.n : s.disk.n;
+        const float plane_t = s.kind == shape_kind::polygon
+                                  ? (s.poly.d - glm::dot(n, ray_.o)) / glm::dot(n, ray_.d)
+                                  : glm::dot(s.disk.c - ray_.o, n) / glm::dot(n, ray_.d);
+        EXPECT_EQ(t, plane_t);
+        (s.kind == shape_kind::polygon ? polygon_pixels : disk_pixels) += 1;
+      }
+  }
+  return {polygon_pixels, disk_pixels};
+}
+
+TEST(Reprojection, FlatCellsLinesMeetTheirObjectInsideItsOutline) {
+  const int width = 200, height = 150;
+  next_eye art(width, height);
+  EXPECT_GT(flat_cells_meet_their_object(art).first, size_t(width * height / 4)) << "the floor and walls";
+  next_eye disk(world_of(disk_scene), width, height);
+  const auto [polygon_pixels, disk_pixels] = flat_cells_meet_their_object(disk);
+  EXPECT_GT(disk_pixels, size_t(width * height / 20));
+  EXPECT_GT(polygon_pixels, size_t(width * height / 20));
 }
 
 TEST(Reprojection, RowRunsOwnThePixelsThePerPixelTestWould) {

@@ -183,6 +183,36 @@ void splat_rows(const camera& cam, const std::vector<cell_ref>& cells, const std
   }
 }
 
+namespace {
+
+// The hit of a line the trusted cell holds with the cell's own object. The error predicate
+// proved that every line of a valid cell meets a flat object inside its outline, with a
+// margin (hit_family's inside tests), so only the plane is intersected: the same t the full
+// test gives, without the polygon's edge walk or the disk's rim test.
+bool hit_proven(const shape& s, const polygon_data& pd, const ray& r, float& t) {
+  float tt;
+  switch (s.kind) {
+    case shape_kind::polygon: {
+      const float dn = glm::dot(s.poly.n, r.d);
+      if (dn == 0) return false;
+      tt = (s.poly.d - glm::dot(s.poly.n, r.o)) / dn;
+      break;
+    }
+    case shape_kind::disk: {
+      const float dn = glm::dot(s.disk.n, r.d);
+      if (dn == 0) return false;
+      tt = glm::dot(s.disk.c - r.o, s.disk.n) / dn;
+      break;
+    }
+    default: return hit_shape(s, pd, r, std::numeric_limits<float>::infinity(), t);
+  }
+  if (!(tt > 0 && tt < std::numeric_limits<float>::infinity())) return false;
+  t = tt;
+  return true;
+}
+
+}  // namespace
+
 bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell_trust& trust, int x, int y,
                 float eps, trace_state& st, glm::vec3& L, mirror_use* mu) {
   float x4[4];
@@ -196,7 +226,7 @@ bool fill_pixel(const world& w, const camera& cam, const cell_ref& c, const cell
   // A face rectangle's pixel meets its box, by that face (the reference's normal there).
   const int self = scene_prim_of(w, c.prim);
   if ((trust.count || trust.face_check || c.ip->textured() || c.ip->deferred || c.ip->deferred_rays) &&
-      !hit_shape(w.shapes[size_t(self)], w.polys, r, std::numeric_limits<float>::infinity(), t))
+      !hit_proven(w.shapes[size_t(self)], w.polys, r, t))
     return false;
   if (trust.face_check && face_prim_of(w, self, r) != c.prim) return false;
   // A candidate met before (or, within rounding, at) the point hides it or ties with it:
