@@ -414,10 +414,9 @@ std::pair<size_t, size_t> flat_cells_meet_their_object(next_eye& e) {
         const bool hit = hit_shape(s, w.polys, ray_, INFINITY, t);
         EXPECT_TRUE(hit) << "cell " << i << ", pixel " << x << "," << y;
         if (!hit) continue;
-        const glm::vec3 n = s.kind == shape_kind::polygon ? s.poly.n : s.disk.n;
-        const float plane_t = s.kind == shape_kind::polygon
-                                  ? (s.poly.d - glm::dot(n, ray_.o)) / glm::dot(n, ray_.d)
-                                  : glm::dot(s.disk.c - ray_.o, n) / glm::dot(n, ray_.d);
+        float plane_t = -1;
+        EXPECT_TRUE(s.kind == shape_kind::polygon ? hit_polygon_plane(s.poly, ray_, INFINITY, plane_t)
+                                                  : hit_disk_plane(s.disk, ray_, INFINITY, plane_t));
         EXPECT_EQ(t, plane_t);
         (s.kind == shape_kind::polygon ? polygon_pixels : disk_pixels) += 1;
       }

@@ -119,11 +119,20 @@ inline bool inside_polygon(const polygon_geom& g, const polygon_data& pd, float 
   return in;
 }
 
-inline bool hit_polygon(const polygon_geom& g, const polygon_data& pd, const ray& r, float tmax, float& t) {
+// Where the ray meets the polygon's plane, in (0, tmax): hit_polygon's t before its outline
+// test, and the whole test where the outline is proven (reproject.cpp, hit_proven).
+inline bool hit_polygon_plane(const polygon_geom& g, const ray& r, float tmax, float& t) {
   float dn = glm::dot(g.n, r.d);
   if (dn == 0) return false;
   float tt = (g.d - glm::dot(g.n, r.o)) / dn;
   if (!(tt > 0 && tt < tmax)) return false;
+  t = tt;
+  return true;
+}
+
+inline bool hit_polygon(const polygon_geom& g, const polygon_data& pd, const ray& r, float tmax, float& t) {
+  float tt;
+  if (!hit_polygon_plane(g, r, tmax, tt)) return false;
   vec3 p = r.o + tt * r.d;
   if (!inside_polygon(g, pd, p[g.ax_u], p[g.ax_v])) return false;
   t = tt;
@@ -164,11 +173,19 @@ inline bool hit_cone(const cone_geom& g, const ray& r, float tmax, float& t) {
   return false;
 }
 
-inline bool hit_disk(const disk_geom& g, const ray& r, float tmax, float& t) {
+// Where the ray meets the disk's plane, in (0, tmax): hit_disk's t before its rim test.
+inline bool hit_disk_plane(const disk_geom& g, const ray& r, float tmax, float& t) {
   float dn = glm::dot(g.n, r.d);
   if (dn == 0) return false;
   float tt = glm::dot(g.c - r.o, g.n) / dn;
   if (!(tt > 0 && tt < tmax)) return false;
+  t = tt;
+  return true;
+}
+
+inline bool hit_disk(const disk_geom& g, const ray& r, float tmax, float& t) {
+  float tt;
+  if (!hit_disk_plane(g, r, tmax, tt)) return false;
   // The rim test in double: |p|^2 of a disk of radius 1e20 overflows float.
   const glm::dvec3 p = glm::dvec3(r.o) + double(tt) * glm::dvec3(r.d) - glm::dvec3(g.c);
   if (glm::dot(p, p) > double(g.r) * double(g.r)) return false;

@@ -187,28 +187,15 @@ namespace {
 
 // The hit of a line the trusted cell holds with the cell's own object. The error predicate
 // proved that every line of a valid cell meets a flat object inside its outline, with a
-// margin (hit_family's inside tests), so only the plane is intersected: the same t the full
-// test gives, without the polygon's edge walk or the disk's rim test.
+// margin (hit_family's inside tests), so only the plane is intersected: the full test's own
+// first step, without the polygon's edge walk or the disk's rim test.
 bool hit_proven(const shape& s, const polygon_data& pd, const ray& r, float& t) {
-  float tt;
+  constexpr float far = std::numeric_limits<float>::infinity();
   switch (s.kind) {
-    case shape_kind::polygon: {
-      const float dn = glm::dot(s.poly.n, r.d);
-      if (dn == 0) return false;
-      tt = (s.poly.d - glm::dot(s.poly.n, r.o)) / dn;
-      break;
-    }
-    case shape_kind::disk: {
-      const float dn = glm::dot(s.disk.n, r.d);
-      if (dn == 0) return false;
-      tt = glm::dot(s.disk.c - r.o, s.disk.n) / dn;
-      break;
-    }
-    default: return hit_shape(s, pd, r, std::numeric_limits<float>::infinity(), t);
+    case shape_kind::polygon: return hit_polygon_plane(s.poly, r, far, t);
+    case shape_kind::disk: return hit_disk_plane(s.disk, r, far, t);
+    default: return hit_shape(s, pd, r, far, t);
   }
-  if (!(tt > 0 && tt < std::numeric_limits<float>::infinity())) return false;
-  t = tt;
-  return true;
 }
 
 }  // namespace
