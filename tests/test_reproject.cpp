@@ -318,8 +318,9 @@ TEST(Reprojection, CellIsTrustedWithTheOccludersItsPixelsMustTest) {
 // Splatting finds, per row, the run of pixels whose lines lie in each cell by solving the
 // per-pixel test's inequalities (linear along a row); ownership must match testing every
 // pixel of every cell's rectangle, but for pixels where float rounding decides (a few).
-// The art room's cells after a first frame, seen from the next eye (stepped forward and
-// turned a little, so cells land on new pixels): each cell's trust and pixel rectangle.
+// A scene's cells (the art room's unless given) after a first frame, seen from the next eye
+// (stepped forward and turned a little, so cells land on new pixels): each cell's trust and
+// pixel rectangle.
 struct next_eye {
   world w;
   linetree_set trees{w.prim_bounds};
@@ -387,14 +388,13 @@ TEST(Reprojection, BoxFaceCellsOwnOnlyPixelsOnTheirFace) {
   EXPECT_GT(off_face, 100) << "lines in the cells that miss the face";
 }
 
-// fill_pixel meets a trusted cell's flat object (polygon or disk) by its plane alone: a valid
-// cell's lines are proven to meet it inside its outline. Every pixel whose line lies in such
-// a cell must then meet the object by the full test, outline included, at the same t.
 // The sweep scene with a disk between the wall and the sphere.
 const std::string disk_scene = std::string(sweep_scene) + "f 0.3 0.5 0.9 0.8 0 0 0 1\ndisk 0 1 0  0 0.3 1  1.5\n";
 
-// Checks every pixel of the trusted flat cells; returns the pixels checked on polygons and
-// on disks.
+// fill_pixel meets a trusted cell's flat object (polygon or disk) by its plane alone: a valid
+// cell's lines are proven to meet it inside its outline. Every pixel whose line lies in such
+// a cell must then meet the object by the full test, outline included, at the same t.
+// Returns the pixels checked on polygons and on disks.
 std::pair<size_t, size_t> flat_cells_meet_their_object(next_eye& e) {
   const world& w = e.w;
   const camera& cam = e.cam;
