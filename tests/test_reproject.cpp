@@ -348,6 +348,18 @@ struct next_eye {
   }
 };
 
+// Calls f(x, y, x4, eye ray) for each pixel of cell i's rectangle whose eye line lies in the cell.
+template <class F>
+void for_each_line_in_cell(const next_eye& e, size_t i, F&& f) {
+  const pixel_rect& r = e.rects[i];
+  for (int y = r.y0; y < r.y1; ++y)
+    for (int x = r.x0; x < r.x1; ++x) {
+      float x4[4];
+      if (!eye_line_in_cell(e.cam, e.reproj.cells[i], x, y, x4)) continue;
+      f(x, y, x4, eye_ray(e.w, e.cam, eye_direction(e.cam, float(x), float(y))));
+    }
+}
+
 // A box face's cell reaching past the face (cell_trust::face_check) owns only the pixels
 // whose lines meet the face; a pixel whose line lies in such a cell but meets the face's
 // plane off the face belongs to whatever lies behind, and fill_pixel refuses it.
@@ -365,23 +377,18 @@ TEST(Reprojection, BoxFaceCellsOwnOnlyPixelsOnTheirFace) {
     ++checked_cells;
     const int box = scene_prim_of(w, cells[i].prim);
     ASSERT_NE(box, cells[i].prim);
-    const pixel_rect& r = e.rects[i];
-    for (int y = r.y0; y < r.y1; ++y)
-      for (int x = r.x0; x < r.x1; ++x) {
-        float x4[4];
-        if (!eye_line_in_cell(cam, cells[i], x, y, x4)) continue;
-        const ray ray_ = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
-        float tb;
-        const bool on = hit_shape(w.shapes[size_t(box)], w.polys, ray_, INFINITY, tb) &&
-                        face_prim_of(w, box, ray_) == cells[i].prim;
-        glm::vec3 L;
-        if (eye_line_owned(cam, cells[i], t, x, y, x4)) {
-          ++owned;
-        } else if (!on) {
-          ++off_face;
-          EXPECT_FALSE(fill_pixel(w, cam, cells[i], t, x, y, 0.05f, st, L)) << "pixel " << x << "," << y;
-        }
+    for_each_line_in_cell(e, i, [&](int x, int y, float* x4, const ray& ray_) {
+      float tb;
+      const bool on = hit_shape(w.shapes[size_t(box)], w.polys, ray_, INFINITY, tb) &&
+                      face_prim_of(w, box, ray_) == cells[i].prim;
+      glm::vec3 L;
+      if (eye_line_owned(cam, cells[i], t, x, y, x4)) {
+        ++owned;
+      } else if (!on) {
+        ++off_face;
+        EXPECT_FALSE(fill_pixel(w, cam, cells[i], t, x, y, 0.05f, st, L)) << "pixel " << x << "," << y;
       }
+    });
   }
   EXPECT_GT(checked_cells, 5);
   EXPECT_GT(owned, 100);
@@ -395,31 +402,25 @@ const std::string disk_scene = std::string(sweep_scene) + "f 0.3 0.5 0.9 0.8 0 0
 // cell's lines are proven to meet it inside its outline. Every pixel whose line lies in such
 // a cell must then meet the object by the full test, outline included, at the same t.
 // Returns the pixels checked on polygons and on disks.
-std::pair<size_t, size_t> flat_cells_meet_their_object(next_eye& e) {
+std::pair<size_t, size_t> flat_cells_meet_their_object(const next_eye& e) {
   const world& w = e.w;
-  const camera& cam = e.cam;
   const std::vector<cell_ref>& cells = e.reproj.cells;
   size_t polygon_pixels = 0, disk_pixels = 0;
   for (size_t i = 0; i < cells.size(); ++i) {
     if (!e.trusted[i].ok) continue;
     const shape& s = w.shapes[size_t(scene_prim_of(w, cells[i].prim))];
     if (s.kind != shape_kind::polygon && s.kind != shape_kind::disk) continue;
-    const pixel_rect& r = e.rects[i];
-    for (int y = r.y0; y < r.y1; ++y)
-      for (int x = r.x0; x < r.x1; ++x) {
-        float x4[4];
-        if (!eye_line_in_cell(cam, cells[i], x, y, x4)) continue;
-        const ray ray_ = eye_ray(w, cam, eye_direction(cam, float(x), float(y)));
-        float t = 0;
-        const bool hit = hit_shape(s, w.polys, ray_, INFINITY, t);
-        EXPECT_TRUE(hit) << "cell " << i << ", pixel " << x << "," << y;
-        if (!hit) continue;
-        float plane_t = -1;
-        EXPECT_TRUE(s.kind == shape_kind::polygon ? hit_polygon_plane(s.poly, ray_, INFINITY, plane_t)
-                                                  : hit_disk_plane(s.disk, ray_, INFINITY, plane_t));
-        EXPECT_EQ(t, plane_t);
-        (s.kind == shape_kind::polygon ? polygon_pixels : disk_pixels) += 1;
-      }
+    for_each_line_in_cell(e, i, [&](int x, int y, float*, const ray& ray_) {
+      float t = 0;
+      const bool hit = hit_shape(s, w.polys, ray_, INFINITY, t);
+      EXPECT_TRUE(hit) << "cell " << i << ", pixel " << x << "," << y;
+      if (!hit) return;
+      float plane_t = -1;
+      EXPECT_TRUE(s.kind == shape_kind::polygon ? hit_polygon_plane(s.poly, ray_, INFINITY, plane_t)
+                                                : hit_disk_plane(s.disk, ray_, INFINITY, plane_t));
+      EXPECT_EQ(t, plane_t);
+      (s.kind == shape_kind::polygon ? polygon_pixels : disk_pixels) += 1;
+    });
   }
   return {polygon_pixels, disk_pixels};
 }
