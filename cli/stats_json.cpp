@@ -83,6 +83,7 @@ void write_stats_json(const run_record& r, const std::string& path) {
                                      {"shadow", f.rays.shadow}, {"shadow_bounded", f.rays.shadow_bounded},
                                      {"shadow_asked", f.rays.shadow_asked},
                                      {"shadow_listed", f.rays.shadow_listed},
+                                     {"reflect_listed", f.rays.reflect_listed},
                                      {"shadow_proven", f.rays.shadow_proven},
                                      {"secondary_bounded", f.rays.secondary_bounded}}},
                            {"path_ms", {{"fast", f.path_ms.fast}, {"interp", f.path_ms.interp}, {"base", f.path_ms.base}}},

@@ -6,6 +6,7 @@
 
 #include "interp/cell_screen.h"
 #include "predicate/error_predicate.h"
+#include "predicate/reflect_shaft.h"
 #include "reproject/mirror.h"
 #include "sched/cycle_clock.h"  // cycle_now is inline: no link to the scheduler library
 #include "shade/surface.h"
@@ -216,6 +217,10 @@ std::unique_ptr<interpolant> build_interpolant(const world& w, int prim, const f
   }
   corners_to_ip();
   if (ip->tx) ip->tx->err_tex = b.err_tex;
+  if (b.reason == cell_reason::valid && (ip->deferred_rays & deferred_reflect)) {
+    reflect_candidates list;
+    if (list_reflect_candidates(w, prim, fp, n.lo, n.hi, list)) ip->reflect = std::make_unique<reflect_candidates>(list);
+  }
   return ip;
 }
 
@@ -324,7 +329,8 @@ bool interpolate_line(const world& w, int prim, const lt_node& n, const interpol
     if (mu && (ip.deferred_rays & deferred_reflect) && prim == mu->m->view.reflector)
       return deferred_with_mirror(w, prim, ip, r, t_hit, sf, T, eps, st, *mu, px, py, L, E);
     error_allowance allow{L, E, eps};
-    L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, ip.deferred_rays, &ip.shadow, st, &allow);
+    L += deferred_terms(w, r, hit{t_hit, prim}, sf, T, ip.deferred, ip.deferred_rays, &ip.shadow, st, &allow,
+                        ip.reflect.get());
     E += allow.spent;
   }
   return within(L, E, eps);

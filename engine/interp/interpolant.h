@@ -53,8 +53,13 @@ struct interpolant {
   bounds hit_box;          // valid cells: where the cell's lines meet the object (reprojection's
                            // occlusion test from a new eye)
   std::unique_ptr<textured_terms> tx;  // textured cells only
+  // Cells of a flat mirror that trace its reflection per pixel: what the reflected rays may
+  // meet, when a short list holds it (engine/predicate/reflect_shaft.h).
+  std::unique_ptr<reflect_candidates> reflect;
   bool textured() const { return tx != nullptr; }
-  std::size_t bytes() const { return sizeof(interpolant) + (tx ? sizeof(textured_terms) : 0); }
+  std::size_t bytes() const {
+    return sizeof(interpolant) + (tx ? sizeof(textured_terms) : 0) + (reflect ? sizeof(reflect_candidates) : 0);
+  }
 };
 
 // Failed cells keep only why they failed and which axes to halve: one shared, immutable

@@ -11,9 +11,6 @@ namespace epsray {
 
 namespace {
 
-// Unit d and nf give a unit reflection (whitted.md 4); no normalize on the hot path.
-vec3 reflect_dir(vec3 d, vec3 nf) { return d - 2 * glm::dot(d, nf) * nf; }
-
 // The light cache's answer (accel/light_cache.h), else the BVH's. Out of line: base mode,
 // the reference, has no cache and keeps its shading loop as it was. While a ray tree is
 // recorded (a build), which names the blocker, a lit answer from the lists is taken (lit is
@@ -168,6 +165,19 @@ inline vec3 reflected_term(const world& w, const material& m, const ray& r, vec3
   return weighted_radiance(w, m.ks, make_ray(p + w.delta * nf, reflect_dir(r.d, nf)), depth + 1, st);
 }
 
+// reflected_term with the reflected ray's hit found among a cell's listed primitives.
+inline vec3 listed_reflected_term(const world& w, const material& m, const ray& r, vec3 p, vec3 nf,
+                                  const reflect_candidates& c, trace_state& st) {
+  ++st.counts.reflect, ++st.counts.reflect_listed;
+  const ray rr = make_ray(p + w.delta * nf, reflect_dir(r.d, nf));
+  const float outer = st.path_weight;
+  st.path_weight = outer * m.ks;
+  hit h;
+  const vec3 L = closest_listed_hit(w, rr, c, h) ? shade_hit(w, rr, h, 2, st) : w.background;
+  st.path_weight = outer;
+  return m.ks * L;
+}
+
 inline float refraction_k(const material& m, const ray& r, vec3 nf, bool entering, float& eta, float& ci) {
   eta = entering ? 1 / m.ior : m.ior;
   ci = glm::dot(-r.d, nf);
@@ -319,7 +329,8 @@ inline light_term light_at_listed(const world& w, const material& m, vec3 p, vec
 // to `start`, in shade_hit's order, so that where nothing fits it is shade_hit's sum bit for bit.
 vec3 terms_within(const world& w, const material& m, const ray& r, int prim, const surface& sf, vec3 nf, bool entering,
                   vec3 kd_c, std::uint32_t lights, bool every, std::uint32_t rays, const shadow_candidates* cands,
-                  trace_state& st, vec3 start, vec3 known, vec3 err, float eps, vec3& spent) {
+                  const reflect_candidates* refl, trace_state& st, vec3 start, vec3 known, vec3 err, float eps,
+                  vec3& spent) {
   const vec3 v = -r.d, above = sf.p + w.delta * nf;
   const size_t nl = every ? w.light_pos.size() : std::min(w.light_pos.size(), size_t(max_deferred_lights));
   // L: the sum returned; known + L - start: what the pixel's radiance is at least.
@@ -353,7 +364,9 @@ vec3 terms_within(const world& w, const material& m, const ray& r, int prim, con
     }
     const vec3 offered = left;
     st.error_left = &left, st.path_weight = 1;
-    L += i == 0 ? reflected_term(w, m, r, sf.p, nf, 1, st) : transmitted_term(w, m, r, sf.p, nf, entering, 1, st);
+    L += i == 1  ? transmitted_term(w, m, r, sf.p, nf, entering, 1, st)
+         : refl ? listed_reflected_term(w, m, r, sf.p, nf, *refl, st)
+                : reflected_term(w, m, r, sf.p, nf, 1, st);
     st.error_left = nullptr;
     spent += offered - left;
   }
@@ -363,14 +376,16 @@ vec3 terms_within(const world& w, const material& m, const ray& r, int prim, con
 }  // namespace
 
 vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& sf, vec3 texel, std::uint32_t lights,
-                    std::uint32_t rays, const shadow_candidates* cands, trace_state& st, error_allowance* allow) {
+                    std::uint32_t rays, const shadow_candidates* cands, trace_state& st, error_allowance* allow,
+                    const reflect_candidates* reflect) {
   const material& m = w.sc.materials[size_t(w.info[size_t(h.prim)].material)];
   const bool entering = glm::dot(sf.ng, r.d) < 0;
   const vec3 nf = entering ? sf.ns : -sf.ns;
   const vec3 kd_c = m.kd * (m.texture >= 0 ? m.color * texel : m.color);
   if (allow && !st.tree) {
     allow->spent = vec3{0};
-    return terms_within(w, m, r, h.prim, sf, nf, entering, kd_c, lights, false, rays, cands, st, vec3{0}, allow->known,
+    return terms_within(w, m, r, h.prim, sf, nf, entering, kd_c, lights, false, rays, cands, reflect, st, vec3{0},
+                        allow->known,
                         allow->err, allow->eps, allow->spent);
   }
   vec3 L{0};
@@ -406,7 +421,7 @@ vec3 shade_within(const world& w, const ray& r, const hit& h, float eps, trace_s
   const vec3 kd_c = m.kd * colour;
   const vec3 L = w.ambient * kd_c;
   vec3 spent{0};
-  return terms_within(w, m, r, h.prim, sf, nf, entering, kd_c, 0, true, deferred_reflect | deferred_refract, nullptr, st, L, L,
+  return terms_within(w, m, r, h.prim, sf, nf, entering, kd_c, 0, true, deferred_reflect | deferred_refract, nullptr, nullptr, st, L, L,
                       vec3{0}, eps, spent);
 }
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "accel/light_cache.h"
+#include "accel/prim_list.h"
 #include "accel/world.h"
 #include "shade/ray_tree.h"
 
@@ -23,11 +24,15 @@ struct ray_counts {
   // Deferred lights a cell proved lit at every pixel (shadow_candidates::lit), shaded with
   // no shadow ray: not rays, so not in total().
   std::uint64_t shadow_proven = 0;
+  // Of the reflected rays, those a cell's list of what its beam may meet answered instead
+  // of a BVH walk (reflect_candidates): still rays cast, in reflect and total().
+  std::uint64_t reflect_listed = 0;
   std::uint64_t total() const { return eye + reflect + refract + shadow; }
   ray_counts& operator+=(const ray_counts& o) {
     eye += o.eye, reflect += o.reflect, refract += o.refract, shadow += o.shadow;
     shadow_bounded += o.shadow_bounded, secondary_bounded += o.secondary_bounded;
     shadow_asked += o.shadow_asked, shadow_listed += o.shadow_listed, shadow_proven += o.shadow_proven;
+    reflect_listed += o.reflect_listed;
     return *this;
   }
 };
@@ -116,11 +121,18 @@ struct shadow_candidates {
   std::int32_t prims[max_prims] = {};
 };
 
+// The primitives a cell's per-pixel reflected rays may meet (engine/predicate/reflect_shaft.h).
+using reflect_candidates = prim_list;
+
 // Secondary rays of an eye ray's hit that a cell may leave to per-pixel tracing.
 enum : std::uint32_t { deferred_reflect = 1, deferred_refract = 2 };
 
 // Lights a cell may leave to per-pixel shadow rays: the first 8, one bit each.
 constexpr int max_deferred_lights = 8;
+
+// The direction of the reflected ray (whitted.md 4): unit d and nf give a unit reflection,
+// with no normalize on the hot path.
+inline vec3 reflect_dir(vec3 d, vec3 nf) { return d - 2 * glm::dot(d, nf) * nf; }
 
 // Radiance along an eye ray (depth 1); records the ray tree into state.tree when set.
 vec3 trace_eye(const world& w, const ray& r, trace_state& state);
@@ -143,11 +155,12 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, std::uint32_t li
 // its texture value (1 when untextured): the interpolate path has both at hand. Lights
 // listed in `candidates` (may be null) test their shadow rays against its prims alone.
 struct surface;
+// With `reflect` (and `allow`), the reflected ray finds its hit among those primitives.
 // With `allow`, the secondary rays' shading may skip shadow rays within the pixel's
 // remaining error (trace_state::error_left); allow->spent says how much it used.
 vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& sf, vec3 texel, std::uint32_t lights,
                     std::uint32_t rays, const shadow_candidates* candidates, trace_state& state,
-                    error_allowance* allow = nullptr);
+                    error_allowance* allow = nullptr, const reflect_candidates* reflect = nullptr);
 
 // The radiance of an eye ray's hit, for a pixel of full mode's plain frames
 // (engine/interp/object_gate.h): every term as shade_hit computes it at depth 1, except that

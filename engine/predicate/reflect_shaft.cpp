@@ -1,0 +1,108 @@
+#include "predicate/reflect_shaft.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "predicate/shaft.h"
+
+namespace epsray {
+
+namespace {
+
+// The interval x [lo, hi] for a scalar x of either sign.
+void scaled(double x, double lo, double hi, double& out_lo, double& out_hi) {
+  out_lo = x >= 0 ? x * lo : x * hi;
+  out_hi = x >= 0 ? x * hi : x * lo;
+}
+
+// Where the cell's lines (coordinates widened to lo4..hi4) cross the plane at front-plane
+// fraction s: their u and v ranges.
+void lines_at(const double lo4[4], const double hi4[4], double s, double u[2], double v[2]) {
+  double a0, a1, c0, c1;
+  scaled(1 - s, lo4[0], hi4[0], a0, a1), scaled(s, lo4[2], hi4[2], c0, c1);
+  u[0] = a0 + c0, u[1] = a1 + c1;
+  scaled(1 - s, lo4[1], hi4[1], a0, a1), scaled(s, lo4[3], hi4[3], c0, c1);
+  v[0] = a0 + c0, v[1] = a1 + c1;
+}
+
+// The float box holding [lo, hi] on each axis, rounded outwards.
+bounds outward(const double lo[3], const double hi[3]) {
+  bounds b;
+  for (int i = 0; i < 3; ++i) {
+    b.lo[i] = std::nextafter(float(lo[i]), -INFINITY);
+    b.hi[i] = std::nextafter(float(hi[i]), INFINITY);
+  }
+  return b;
+}
+
+}  // namespace
+
+bool reflect_beam(const world& w, int prim, const facepair& fp, const float lo[4], const float hi[4], bounds& from,
+                  bounds& to) {
+  if (fp.flat < 0 || fp.axis != fp.flat || size_t(prim) >= w.shapes.size()) return false;
+  const shape_kind k = w.shapes[size_t(prim)].kind;
+  if (k != shape_kind::triangle && k != shape_kind::polygon && k != shape_kind::disk) return false;
+  // A scene primitive's shading normal may be interpolated; a box face's is the box's.
+  if (size_t(prim) < w.scene_prims && w.info[size_t(prim)].patch) return false;
+  const bounds& pb = w.prim_bounds[size_t(prim)];
+  const int ax = fp.axis;
+  if (!(pb.lo[ax] == pb.hi[ax])) return false;
+  const double y0 = pb.lo[ax], front = fp.front, back = fp.back;
+  if (!(std::fabs(front - back) > 0)) return false;
+  // The scene's far side from the plane, on the eye lines' side (the front plane's).
+  const bool up = front > y0;  // reflected rays run towards +axis
+  const double far = up ? double(w.box.hi[ax]) : double(w.box.lo[ax]);
+  // The cell widened as bound_cell widens it: a pixel's float coordinates are within half
+  // an ulp of its exact line's.
+  const double magnitude = 2 * std::max(glm::length(glm::dvec3(w.box.lo)), glm::length(glm::dvec3(w.box.hi)));
+  double lo4[4], hi4[4];
+  for (int i = 0; i < 4; ++i) {
+    const double pad = 0x1p-20 * (magnitude + std::max(std::fabs(double(lo[i])), std::fabs(double(hi[i]))));
+    lo4[i] = double(lo[i]) - pad, hi4[i] = double(hi[i]) + pad;
+  }
+  // The eye lines past the plane, from y0 to the far side's mirror image 2 y0 - far.
+  const double reach = up ? std::max(far - y0, 0.0) : std::max(y0 - far, 0.0);
+  const double y_end = up ? y0 - reach : y0 + reach;
+  const double s0 = (front - y0) / (front - back), s1 = (front - y_end) / (front - back);
+  double u0[2], v0[2], u1[2], v1[2];
+  lines_at(lo4, hi4, s0, u0, v0);
+  lines_at(lo4, hi4, s1, u1, v1);
+  // Mirrored: the first box lies in the plane, the second on the scene's far side.
+  double alo[3], ahi[3], blo[3], bhi[3];
+  alo[ax] = ahi[ax] = y0;
+  blo[ax] = bhi[ax] = up ? y0 + reach : y0 - reach;
+  alo[fp.u] = u0[0], ahi[fp.u] = u0[1], alo[fp.v] = v0[0], ahi[fp.v] = v0[1];
+  blo[fp.u] = u1[0], bhi[fp.u] = u1[1], blo[fp.v] = v1[0], bhi[fp.v] = v1[1];
+  // Each ray leaves from delta off the plane, from a hit point rounded in float.
+  const glm::vec3 grow(w.delta);
+  from = with_rounding_margin(outward(alo, ahi));
+  to = with_rounding_margin(outward(blo, bhi));
+  from.lo -= grow, from.hi += grow, to.lo -= grow, to.hi += grow;
+  for (int i = 0; i < 3; ++i)
+    if (!std::isfinite(from.lo[i]) || !std::isfinite(from.hi[i]) || !std::isfinite(to.lo[i]) || !std::isfinite(to.hi[i]))
+      return false;
+  return true;
+}
+
+bool list_reflect_candidates(const world& w, int prim, const facepair& fp, const float lo[4], const float hi[4],
+                             reflect_candidates& out) {
+  out.count = 0;
+  bounds from, to;
+  if (!reflect_beam(w, prim, fp, lo, hi, from, to)) return false;
+  const shaft s = make_shaft(from, to);
+  // The BVH's slots whose boxes meet the beam, as its walk would test them.
+  std::uint32_t slots[reflect_candidates::max_prims];
+  int n = 0;
+  auto visit = [&](int slot) {
+    if (n == reflect_candidates::max_prims) return true;
+    slots[n++] = std::uint32_t(slot);
+    return false;
+  };
+  const bool over =
+      !w.tree.nodes2.empty() && detail::shaft_walk(w.tree.nodes2.data(), w.slot_bounds.data(), nullptr, s, 0, visit);
+  if (over) return false;
+  make_prim_list(w, from, slots, n, out);
+  return true;
+}
+
+}  // namespace epsray
