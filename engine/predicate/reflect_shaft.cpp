@@ -90,10 +90,14 @@ bool list_reflect_candidates(const world& w, int prim, const facepair& fp, const
   bounds from, to;
   if (!reflect_beam(w, prim, fp, lo, hi, from, to)) return false;
   const shaft s = make_shaft(from, to);
-  // The BVH's slots whose boxes meet the beam, as its walk would test them.
+  // The BVH's slots whose boxes meet the beam, as its walk would test them, but the
+  // mirror's own: a ray leaving a plane from delta off it, away from it, cannot meet it
+  // (nor the box a face belongs to, which it leaves outwards).
+  const int self = scene_prim_of(w, prim);
   std::uint32_t slots[reflect_candidates::max_prims];
   int n = 0;
   auto visit = [&](int slot) {
+    if (int(w.slot_prim[size_t(slot)]) == self) return false;
     if (n == reflect_candidates::max_prims) return true;
     slots[n++] = std::uint32_t(slot);
     return false;
