@@ -2,8 +2,9 @@
 // every primitive its reflected rays can meet, so that the list gives the BVH walk's hit
 // (closest_listed_hit). Lines sampled in random cells (their 16 corners included) are
 // traced to the mirror and reflected as shade_hit reflects them; the BVH's answer is the
-// oracle. Mirrors: the art room's floor, and generated scenes with a mirror on each axis,
-// facing either way (a floor, a ceiling, walls), as a polygon, a disk and a box's face.
+// oracle, and the radiance each ray carries must lie in the cell's range. Mirrors: the
+// art room's floor, and generated scenes with a mirror on each axis, facing either way (a
+// floor, a ceiling, walls), as a polygon, a disk and a box's face.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,6 +29,7 @@ using test::uniform;
 
 struct tally {
   int cells = 0, listed = 0, rays = 0, hits = 0;
+  int narrower = 0;  // listed cells whose rays' range is narrower than any depth-2 ray's
 };
 
 // `cells` random cells of facepair `index` of primitive `prim`, each 1/2 to 1/64 of the
@@ -48,6 +50,7 @@ void check_mirror(const world& w, int prim, int index, std::mt19937& g, int cell
     if (!list_reflect_candidates(w, prim, fp, lo, hi, list)) continue;
     ++n.listed;
     for (int k = 1; k < list.count; ++k) EXPECT_LE(list.near[k - 1], list.near[k]);
+    n.narrower += glm::any(glm::lessThan(list.rad_hi - list.rad_lo, w.rad.hi[2] - w.rad.lo[2]));
     for (int s = 0; s < 48; ++s) {
       float x[4];
       for (int i = 0; i < 4; ++i) x[i] = s < 16 ? ((s >> i & 1) ? hi[i] : lo[i]) : uniform(g, lo[i], hi[i]);
@@ -63,6 +66,11 @@ void check_mirror(const world& w, int prim, int index, std::mt19937& g, int cell
       const bool by_bvh = closest_hit(w, rr, inf, walked);
       const bool by_list = closest_listed_hit(w, rr, list, listed);
       ASSERT_EQ(by_bvh, by_list) << "cell " << c << " line " << s;
+      // What the ray carries, traced as shade_hit traces a reflected ray, lies in the range.
+      trace_state st;
+      const glm::vec3 L = radiance(w, rr, 2, st);
+      EXPECT_TRUE(glm::all(glm::lessThanEqual(list.rad_lo, L)) && glm::all(glm::lessThanEqual(L, list.rad_hi)))
+          << "cell " << c << " line " << s << ": " << L.x << " outside " << list.rad_lo.x << ".." << list.rad_hi.x;
       if (!by_bvh) continue;
       ++n.hits;
       EXPECT_TRUE(std::find(list.prims, list.prims + list.count, walked.prim) != list.prims + list.count)
@@ -87,6 +95,7 @@ TEST(ReflectShaft, ArtRoomFloorRaysMeetOnlyListedPrimitives) {
   // Most cells are listed, and the checks are not vacuous.
   EXPECT_GT(n.listed, n.cells / 2);
   EXPECT_GT(n.hits, 2000);
+  EXPECT_GT(n.narrower, n.listed / 4);
 }
 
 // A mirror in the plane axis = at, seen from the side `sign` (+1: the mirror faces +axis),
@@ -157,6 +166,7 @@ TEST(ReflectShaft, GeneratedMirrorsOnEveryAxisAndSide) {
   }
   EXPECT_GT(n.listed, n.cells / 3);
   EXPECT_GT(n.hits, 5000);
+  EXPECT_GT(n.narrower, 0);
 }
 
 // A cell of a primitive that is not an axis-aligned flat mirror, or of another facepair,

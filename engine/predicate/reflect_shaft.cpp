@@ -106,6 +106,16 @@ bool list_reflect_candidates(const world& w, int prim, const facepair& fp, const
       !w.tree.nodes2.empty() && detail::shaft_walk(w.tree.nodes2.data(), w.slot_bounds.data(), nullptr, s, 0, visit);
   if (over) return false;
   make_prim_list(w, from, slots, n, out);
+  // A ray of the beam meets one of these or nothing (the background); its depth is 2.
+  glm::vec3 rlo = w.background, rhi = w.background;
+  for (int i = 0; i < out.count; ++i) {
+    glm::vec3 mlo, mhi;
+    material_radiance(w, w.sc.materials[size_t(w.info[size_t(out.prims[i])].material)], 2, w.rad.lo[3], w.rad.hi[3],
+                      mlo, mhi);
+    rlo = glm::min(rlo, mlo), rhi = glm::max(rhi, mhi);
+  }
+  widen_radiance(rlo, rhi);
+  out.rad_lo = glm::max(rlo, w.rad.lo[2]), out.rad_hi = glm::min(rhi, w.rad.hi[2]);
   return true;
 }
 

@@ -17,6 +17,19 @@ struct radiance_range {
 };
 
 struct world;
+struct material;
+
+// What a ray of depth d that meets material m can carry, where any ray of depth d + 1
+// carries lo_next..hi_next (unwidened): A Kd C + sum of Ij (Kd C dot + Ks spec) +
+// (Ks + T) L(depth + 1), with dot and spec in [0, 1] and each light lit or not.
+void material_radiance(const world& w, const material& m, int d, vec3 lo_next, vec3 hi_next, vec3& lo, vec3& hi);
+
+// lo..hi widened for float rounding, as bound_radiance widens its ranges.
+inline void widen_radiance(vec3& lo, vec3& hi) {
+  lo = lo * (1 - 1e-4f);
+  hi = hi * (1 + 1e-4f) + 1e-7f;
+}
+
 // Every material some primitive uses: L = A Kd C + sum of Ij (Kd C dot + Ks spec) + (Ks + T)
 // L(depth + 1), with dot and spec in [0, 1] and each light lit or not, C over the texture's
 // range; a miss gives the background. Widened by a relative 1e-4 for float rounding.

@@ -352,11 +352,13 @@ vec3 terms_within(const world& w, const material& m, const ray& r, int prim, con
                : light_within(w, m, kd_c, sf.p, above, nf, v, j, 1.0f, room, st, bvh_blocker{w, j, prim, st});
     L += al.L, spent += al.cost, room -= al.cost;
   }
-  const vec3 range = w.rad.hi[2] - w.rad.lo[2], mid = 0.5f * (w.rad.hi[2] + w.rad.lo[2]);
   for (int i = 0; i < 2; ++i) {
     const bool traced = i == 0 ? (rays & deferred_reflect) && m.ks > 0 : (rays & deferred_refract) && m.t > 0;
     if (!traced) continue;
     const float k = i == 0 ? m.ks : m.t;
+    // A cell's list of what its reflected rays may meet narrows what they can carry.
+    const vec3 lo = i == 0 && refl ? refl->rad_lo : w.rad.lo[2], hi = i == 0 && refl ? refl->rad_hi : w.rad.hi[2];
+    const vec3 range = hi - lo, mid = 0.5f * (hi + lo);
     vec3 left = error_room(known + L, err + spent, eps);
     if (glm::all(glm::lessThanEqual(0.5f * k * range, left))) {
       L += k * mid, spent += 0.5f * k * range, ++st.counts.secondary_bounded;

@@ -121,8 +121,12 @@ struct shadow_candidates {
   std::int32_t prims[max_prims] = {};
 };
 
-// The primitives a cell's per-pixel reflected rays may meet (engine/predicate/reflect_shaft.h).
-using reflect_candidates = prim_list;
+// The primitives a cell's per-pixel reflected rays may meet (engine/predicate/reflect_shaft.h),
+// and what any of those rays can carry: the range of a depth-2 ray (radiance_bound.h) over
+// the listed primitives' materials and the background, within world::rad's.
+struct reflect_candidates : prim_list {
+  vec3 rad_lo{0}, rad_hi{0};
+};
 
 // Secondary rays of an eye ray's hit that a cell may leave to per-pixel tracing.
 enum : std::uint32_t { deferred_reflect = 1, deferred_refract = 2 };
