@@ -30,8 +30,8 @@ struct alignas(16) prim_list {
 void make_prim_list(const world& w, const bounds& origins, const std::uint32_t* slots, int n, prim_list& l);
 
 // closest_hit's answer for a ray from the list's beam (r.d a unit vector, so t is at least
-// the distance to any point of a box it meets there). Two hits at the same t are the BVH's to order (it visits nearer
-// boxes first), so a tie walks the BVH after all.
+// the distance to any point of a box it meets there). Two hits at the same t are the BVH's
+// to order (it visits nearer boxes first), so a tie walks the BVH after all.
 inline bool closest_listed_hit(const world& w, const ray& r, const prim_list& l, hit& h) {
   constexpr float inf = std::numeric_limits<float>::infinity();
   // Bounded by the float just past the best so far, so that a hit at exactly the same t is

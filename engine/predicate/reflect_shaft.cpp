@@ -3,26 +3,19 @@
 #include <algorithm>
 #include <cmath>
 
+#include "interp/interval.h"
+#include "predicate/jet_vec.h"
 #include "predicate/shaft.h"
 
 namespace epsray {
 
 namespace {
 
-// The interval x [lo, hi] for a scalar x of either sign.
-void scaled(double x, double lo, double hi, double& out_lo, double& out_hi) {
-  out_lo = x >= 0 ? x * lo : x * hi;
-  out_hi = x >= 0 ? x * hi : x * lo;
-}
-
 // Where the cell's lines (coordinates widened to lo4..hi4) cross the plane at front-plane
-// fraction s: their u and v ranges.
-void lines_at(const double lo4[4], const double hi4[4], double s, double u[2], double v[2]) {
-  double a0, a1, c0, c1;
-  scaled(1 - s, lo4[0], hi4[0], a0, a1), scaled(s, lo4[2], hi4[2], c0, c1);
-  u[0] = a0 + c0, u[1] = a1 + c1;
-  scaled(1 - s, lo4[1], hi4[1], a0, a1), scaled(s, lo4[3], hi4[3], c0, c1);
-  v[0] = a0 + c0, v[1] = a1 + c1;
+// fraction s: their u and v ranges, rounded outwards.
+void lines_at(const double lo4[4], const double hi4[4], double s, interval& u, interval& v) {
+  u = (1 - s) * interval(lo4[0], hi4[0]) + s * interval(lo4[2], hi4[2]);
+  v = (1 - s) * interval(lo4[1], hi4[1]) + s * interval(lo4[3], hi4[3]);
 }
 
 // The float box holding [lo, hi] on each axis, rounded outwards.
@@ -64,24 +57,21 @@ bool reflect_beam(const world& w, int prim, const facepair& fp, const float lo[4
   const double reach = up ? std::max(far - y0, 0.0) : std::max(y0 - far, 0.0);
   const double y_end = up ? y0 - reach : y0 + reach;
   const double s0 = (front - y0) / (front - back), s1 = (front - y_end) / (front - back);
-  double u0[2], v0[2], u1[2], v1[2];
+  interval u0, v0, u1, v1;
   lines_at(lo4, hi4, s0, u0, v0);
   lines_at(lo4, hi4, s1, u1, v1);
   // Mirrored: the first box lies in the plane, the second on the scene's far side.
   double alo[3], ahi[3], blo[3], bhi[3];
   alo[ax] = ahi[ax] = y0;
   blo[ax] = bhi[ax] = up ? y0 + reach : y0 - reach;
-  alo[fp.u] = u0[0], ahi[fp.u] = u0[1], alo[fp.v] = v0[0], ahi[fp.v] = v0[1];
-  blo[fp.u] = u1[0], bhi[fp.u] = u1[1], blo[fp.v] = v1[0], bhi[fp.v] = v1[1];
+  alo[fp.u] = u0.lo, ahi[fp.u] = u0.hi, alo[fp.v] = v0.lo, ahi[fp.v] = v0.hi;
+  blo[fp.u] = u1.lo, bhi[fp.u] = u1.hi, blo[fp.v] = v1.lo, bhi[fp.v] = v1.hi;
   // Each ray leaves from delta off the plane, from a hit point rounded in float.
   const glm::vec3 grow(w.delta);
   from = with_rounding_margin(outward(alo, ahi));
   to = with_rounding_margin(outward(blo, bhi));
   from.lo -= grow, from.hi += grow, to.lo -= grow, to.hi += grow;
-  for (int i = 0; i < 3; ++i)
-    if (!std::isfinite(from.lo[i]) || !std::isfinite(from.hi[i]) || !std::isfinite(to.lo[i]) || !std::isfinite(to.hi[i]))
-      return false;
-  return true;
+  return family::finite_box(from) && family::finite_box(to);
 }
 
 bool list_reflect_candidates(const world& w, int prim, const facepair& fp, const float lo[4], const float hi[4],

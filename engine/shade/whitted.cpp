@@ -149,33 +149,33 @@ inline light_term light_at(const world& w, const material& m, vec3 p, vec3 above
 
 // A secondary ray's radiance times k, with the path weight scaled by k while it is traced
 // (what an error allowance charges for a skipped shadow ray below it).
-inline vec3 weighted_radiance(const world& w, float k, const ray& r, int depth, trace_state& st) {
+template <class Trace>
+inline vec3 weighted(float k, trace_state& st, Trace&& trace) {
   const float outer = st.path_weight;
   st.path_weight = outer * k;
-  const vec3 L = radiance(w, r, depth, st);
+  const vec3 L = trace();
   st.path_weight = outer;
   return k * L;
 }
 
-// The reflected and transmitted terms of shade_hit (ks Lr, t Lt), shared with
-// deferred_terms so a per-pixel secondary ray is the reference's.
-inline vec3 reflected_term(const world& w, const material& m, const ray& r, vec3 p, vec3 nf, int depth,
-                           trace_state& st) {
-  ++st.counts.reflect;
-  return weighted_radiance(w, m.ks, make_ray(p + w.delta * nf, reflect_dir(r.d, nf)), depth + 1, st);
+inline vec3 weighted_radiance(const world& w, float k, const ray& r, int depth, trace_state& st) {
+  return weighted(k, st, [&] { return radiance(w, r, depth, st); });
 }
 
-// reflected_term with the reflected ray's hit found among a cell's listed primitives.
-inline vec3 listed_reflected_term(const world& w, const material& m, const ray& r, vec3 p, vec3 nf,
-                                  const reflect_candidates& c, trace_state& st) {
-  ++st.counts.reflect, ++st.counts.reflect_listed;
+// The reflected and transmitted terms of shade_hit (ks Lr, t Lt), shared with
+// deferred_terms so a per-pixel secondary ray is the reference's. With `list` (a cell's
+// reflected rays, reflect_shaft.h), the reflected ray's hit is found among its primitives:
+// the BVH's hit, without the walk.
+inline vec3 reflected_term(const world& w, const material& m, const ray& r, vec3 p, vec3 nf, int depth,
+                           trace_state& st, const reflect_candidates* list = nullptr) {
+  ++st.counts.reflect;
   const ray rr = make_ray(p + w.delta * nf, reflect_dir(r.d, nf));
-  const float outer = st.path_weight;
-  st.path_weight = outer * m.ks;
-  hit h;
-  const vec3 L = closest_listed_hit(w, rr, c, h) ? shade_hit(w, rr, h, 2, st) : w.background;
-  st.path_weight = outer;
-  return m.ks * L;
+  if (!list) return weighted_radiance(w, m.ks, rr, depth + 1, st);
+  ++st.counts.reflect_listed;
+  return weighted(m.ks, st, [&] {
+    hit h;
+    return closest_listed_hit(w, rr, *list, h) ? shade_hit(w, rr, h, depth + 1, st) : w.background;
+  });
 }
 
 inline float refraction_k(const material& m, const ray& r, vec3 nf, bool entering, float& eta, float& ci) {
@@ -366,9 +366,7 @@ vec3 terms_within(const world& w, const material& m, const ray& r, int prim, con
     }
     const vec3 offered = left;
     st.error_left = &left, st.path_weight = 1;
-    L += i == 1  ? transmitted_term(w, m, r, sf.p, nf, entering, 1, st)
-         : refl ? listed_reflected_term(w, m, r, sf.p, nf, *refl, st)
-                : reflected_term(w, m, r, sf.p, nf, 1, st);
+    L += i == 0 ? reflected_term(w, m, r, sf.p, nf, 1, st, refl) : transmitted_term(w, m, r, sf.p, nf, entering, 1, st);
     st.error_left = nullptr;
     spent += offered - left;
   }
@@ -387,8 +385,7 @@ vec3 deferred_terms(const world& w, const ray& r, const hit& h, const surface& s
   if (allow && !st.tree) {
     allow->spent = vec3{0};
     return terms_within(w, m, r, h.prim, sf, nf, entering, kd_c, lights, false, rays, cands, reflect, st, vec3{0},
-                        allow->known,
-                        allow->err, allow->eps, allow->spent);
+                        allow->known, allow->err, allow->eps, allow->spent);
   }
   vec3 L{0};
   if (lights) {
@@ -423,8 +420,8 @@ vec3 shade_within(const world& w, const ray& r, const hit& h, float eps, trace_s
   const vec3 kd_c = m.kd * colour;
   const vec3 L = w.ambient * kd_c;
   vec3 spent{0};
-  return terms_within(w, m, r, h.prim, sf, nf, entering, kd_c, 0, true, deferred_reflect | deferred_refract, nullptr, nullptr, st, L, L,
-                      vec3{0}, eps, spent);
+  return terms_within(w, m, r, h.prim, sf, nf, entering, kd_c, 0, true, deferred_reflect | deferred_refract, nullptr,
+                      nullptr, st, L, L, vec3{0}, eps, spent);
 }
 
 vec3 trace_eye(const world& w, const ray& r, trace_state& st) {
