@@ -54,14 +54,7 @@ int cell_of(double u, float lo, float s, int res, int side) {
 }
 
 // The distance from l to box b, rounded down.
-float box_distance(const bounds& b, glm::dvec3 l) {
-  double s = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double e = std::max({double(b.lo[a]) - l[a], l[a] - double(b.hi[a]), 0.0});
-    s += e * e;
-  }
-  return float(std::sqrt(s) * (1 - 1e-6));
-}
+float box_distance(const bounds& b, glm::dvec3 l) { return float(box_gap(b, l, l) * (1 - 1e-6)); }
 
 // Entries (8 bytes each) one buffer and all of them may hold: a light whose buffer would
 // hold more than its share at the coarsest grid walks the BVH.

@@ -10,14 +10,7 @@ void make_prim_list(const world& w, const bounds& origins, const std::uint32_t* 
   std::uint32_t order[prim_list::max_prims];
   l.count = std::min(n, prim_list::max_prims);
   for (int i = 0; i < l.count; ++i) {
-    const bounds& b = w.slot_bounds[slots[i]];
-    double d2 = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double gap =
-          std::max({double(origins.lo[k]) - double(b.hi[k]), double(b.lo[k]) - double(origins.hi[k]), 0.0});
-      d2 += gap * gap;
-    }
-    l.near[i] = float(std::sqrt(d2) * (1 - 1e-5));
+    l.near[i] = float(box_gap(w.slot_bounds[slots[i]], glm::dvec3(origins.lo), glm::dvec3(origins.hi)) * (1 - 1e-5));
     order[i] = slots[i];
   }
   for (int i = 1; i < l.count; ++i)  // insertion sort: a few entries, and ties keep their order

@@ -39,6 +39,17 @@ inline bounds with_rounding_margin(bounds b, vec3 also = vec3(0)) {
   return b;
 }
 
+// The distance between box a and the box [lo, hi] (a point where lo = hi), 0 where they
+// meet, in double; callers round it down for their use.
+inline double box_gap(const bounds& a, const glm::dvec3& lo, const glm::dvec3& hi) {
+  double s = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double e = std::max({double(a.lo[k]) - hi[k], lo[k] - double(a.hi[k]), 0.0});
+    s += e * e;
+  }
+  return std::sqrt(s);
+}
+
 // Slab test; true when [t0, t1] overlaps the box. NaN-safe: 0 * inf lanes are dropped by
 // the operand order of min/max (std::min returns its first argument on NaN comparisons).
 inline bool hit_bounds(const vec3& lo, const vec3& hi, const ray& r, float tmax, float& tnear) {
