@@ -120,6 +120,10 @@ const std::vector<flag_spec>& flags() {
       {"--verify", nullptr, RW, false,
        "also trace every pixel and report the error against eps (slow; images unchanged)",
        [](cli_options& o, arg, arg) { o.verify = true; }},
+      {"--base-cost", nullptr, RW, false,
+       "base, interp, full: also trace every pixel by base mode's code and time it by the path that served the "
+       "pixel (stats: base_code_ms; slow; images unchanged)",
+       [](cli_options& o, arg, arg) { o.base_cost = true; }},
       {"--quiet", nullptr, RW, false, "no summary on stdout, no progress line on stderr",
        [](cli_options& o, arg, arg) { o.quiet = true; }},
       {"--record", "FILE", V, true, "P starts and stops recording the camera path to FILE (a path walk reads)",
@@ -342,6 +346,8 @@ cli_options parse_args(const std::vector<std::string>& a) {
   if (o.command == "walk" && o.path.empty()) bad("walk needs --path FILE");
   if (!o.script.empty() && !o.screenshot.empty())
     bad("--screenshot and --script do not combine; use the script's screenshot command");
+  if (o.base_cost && (o.mode == render_mode::upsample || o.mode == render_mode::reuse))
+    bad("--base-cost is for modes base, interp and full (and lightfield), not " + std::string(mode_name(o.mode)));
   if (o.command == "walk" && (o.png_flag || o.pfm_flag) && o.out_dir.empty())
     bad("--png/--pfm with walk need --out-dir DIR");
   // POV-Ray's convention: a render always leaves an image, named after the scene.

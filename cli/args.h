@@ -51,6 +51,7 @@ struct cli_options {
   double memory_mb = 0;  // linetree memory budget; 0: none
   int upsample = 2, reuse_age = 4, lf_depth = 4;  // the baselines' knobs (frame_params)
   bool png_flag = false, pfm_flag = false, verify = false, quiet = false;
+  bool base_cost = false;  // frame_params::base_cost
 };
 
 // args: the command line without the executable. Accepts `--flag value` and `--flag=value`.

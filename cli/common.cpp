@@ -108,6 +108,7 @@ frame_params make_frame_params(const cli_options& o, linetree_set* trees, reproj
   fp.tile_rows = o.tile_rows;
   fp.order = o.order;
   fp.reasons = !o.reasons.empty();
+  fp.base_cost = o.base_cost;
   fp.upsample = o.upsample, fp.reuse_age = o.reuse_age, fp.lf_depth = o.lf_depth;
   return fp;
 }

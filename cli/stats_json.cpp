@@ -34,6 +34,7 @@ frame_record make_frame_record(int index, const frame_result& fr, const verify_r
   frame_record r{index, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms,
                  fr.ahead_ms, fr.ahead_wait_ms, fr.shade, fr.after_ms};
   r.objects_off = fr.objects_off;
+  r.base_code_ms = fr.base_code_ms, r.base_cost = fr.base_costed;
   r.plain = fr.plain;
   r.probe_pixels = fr.probe_pixels, r.probe_ms = fr.probe_ms;
   r.mirror_filled = fr.mirror_filled, r.mirror_looked_up = fr.mirror_looked_up, r.mirror_traced = fr.mirror_traced;
@@ -99,6 +100,10 @@ void write_stats_json(const run_record& r, const std::string& path) {
                            {"linetree_bytes", f.linetree_bytes}};
     fj["sched"] = {{"shade_ms", f.shade.wall_ms}, {"join_ms", f.shade.join_ms}, {"tail_ms", f.shade.tail_ms},
                    {"after_ms", f.after_ms}};
+    if (f.base_cost)
+      fj["base_code_ms"] = {{"fast", f.base_code_ms.fast}, {"interp", f.base_code_ms.interp},
+                            {"base", f.base_code_ms.base}, {"deferred", f.base_code_ms.deferred},
+                            {"span", f.base_code_ms.span}};
     if (r.ranks > 0) fj["rank"] = f.rank;
     if (f.probe_pixels > 0) fj["probe"] = {{"pixels", f.probe_pixels}, {"ms", f.probe_ms}};
     if (f.ahead_ms > 0) fj["ahead_ms"] = f.ahead_ms, fj["ahead_wait_ms"] = f.ahead_wait_ms;

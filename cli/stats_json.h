@@ -30,6 +30,8 @@ struct frame_record {
   double max_rel_err = 0, p999_rel_err = 0, mean_rel_err = 0;
   std::uint64_t violations = 0;
   int rank = 0;  // the rank that rendered it (a walk under mpirun)
+  bool base_cost = false;  // --base-cost: base mode's code on each path's pixels
+  path_times base_code_ms{};
 };
 
 // Frame `index`'s record; with vr (--verify), its errors.

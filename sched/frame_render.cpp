@@ -54,6 +54,8 @@ struct alignas(64) tile_totals {
   std::uint64_t ticks_deferred = 0;  // within fast and interp
   std::uint64_t ticks_span = 0;      // within fast
   std::uint64_t ticks_build = 0;     // within interp and base
+  // frame_params::base_cost: base mode's code on the same pixels, by the same paths.
+  std::uint64_t base_fast = 0, base_interp = 0, base_base = 0, base_deferred = 0, base_span = 0;
   std::vector<cell_ref> cells;  // full: the cells this tile's pixels used, for the next frame
   std::vector<gate_entry> gate;  // full: per object, what its cells saved and cost (object_gate.h)
   std::vector<cell_ref> mirror_cells;  // full: the mirror cells this tile's pixels used
@@ -71,7 +73,7 @@ struct reprojection_frame {
 // from it; otherwise, and when its bound fails, it takes the interpolate path. Runs of a
 // plain cell's pixels are filled in screen space (span_fill.h), the rest pixel by pixel.
 void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, const mirror_frame* mf, int lf_depth,
-                       const tile& t, image& out, image* reasons, tile_totals& tot) {
+                       const tile& t, image& out, image* reasons, tile_totals& tot, bool base_cost) {
   trace_state st;
   st.lights = f.lights;
   interp_scratch scratch;
@@ -118,6 +120,17 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, cons
     clock = now;
     return ticks;
   };
+  // base_cost: the pixel traced by base mode's code, with a state of its own (no light
+  // cache; its last blockers run on from pixel to pixel, as in a base tile), its colour
+  // dropped; its time is left out of the path's.
+  trace_state base_st;
+  auto base_ticks = [&](int x, int y) {
+    const std::uint64_t c0 = cycle_now();
+    const vec3 L = trace_eye(*f.w, eye_ray(*f.w, cam, eye_direction(cam, float(x), float(y))), base_st);
+    asm volatile("" : : "g"(&L) : "memory");  // kept: the trace is what is timed
+    clock = cycle_now();
+    return clock - c0;
+  };
   auto shade_one = [&](int x, int y) {
     pixel_result r;
     if (gating) rays_before = st.counts.total() - st.build_rays, builds_before = st.builds;
@@ -135,6 +148,11 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, cons
     if (reasons) reasons->at(x, y) = reason_colour(r.reason);
     if (gating) gate_pixel(r);
     count(r, lap());
+    if (base_cost) {
+      const std::uint64_t b = base_ticks(x, y);
+      if (r.cell.ip && (r.cell.ip->deferred | r.cell.ip->deferred_rays)) tot.base_deferred += b;
+      (r.path == pixel_path::fast ? tot.base_fast : r.path == pixel_path::interp ? tot.base_interp : tot.base_base) += b;
+    }
   };
   for (int y = t.y0; y < t.y1; ++y) {
     const std::int32_t* owner = rp ? rp->owner + size_t(y) * size_t(cam.width) : nullptr;
@@ -163,6 +181,12 @@ void shade_tile_interp(const interp_frame& f, const reprojection_frame* rp, cons
         tot.pixels.span += std::uint64_t(passed);
         note_cell(tot.cells, c);
         tot.pixels.fast += std::uint64_t(passed), tot.ticks_fast += ticks, tot.ticks_span += ticks;
+        if (base_cost) {
+          std::uint64_t b = 0;
+          for (int i = 0; i <= xe - x; ++i)
+            if (span_ok[size_t(i)]) b += base_ticks(x + i, y);
+          tot.base_fast += b, tot.base_span += b;
+        }
         if (gating) {
           gate_tally& g = tally(scene_prim_of(*f.w, c.prim));
           g.span += std::uint64_t(passed), g.saved += std::uint64_t(passed) * c.ip->tree_rays;
@@ -383,6 +407,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   }
   // The tiles, dearest first by last frame's costs (tile_queue.h). A plain frame's are base's.
   const render_mode tile_mode = plain ? render_mode::base : p.mode;
+  image base_scratch = p.base_cost && plain_allowance ? image::unwritten(cam.width, cam.height) : image{};
   std::vector<std::uint64_t> tile_ticks(tiles.size());
   std::vector<std::uint8_t> tile_finite(tiles.size());
   out.shade = run_tiles(pool, pool.history().order(tiles.size(), p.order), [&](size_t i) {
@@ -399,6 +424,14 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
         totals[i].rays = st.counts;
         totals[i].pixels.base = std::uint64_t(tiles[i].y1 - tiles[i].y0) * std::uint64_t(cam.width);
         totals[i].ticks_base = cycle_now() - c0;
+        if (p.base_cost) {  // a plain frame under the allowance is not base's code: timed again
+          const std::uint64_t b0 = cycle_now();
+          if (plain_allowance) {
+            trace_state bs;
+            shade_rows_base(w, cam, tiles[i].y0, tiles[i].y1, base_scratch, bs, nullptr);
+          }
+          totals[i].base_base = plain_allowance ? cycle_now() - b0 : totals[i].ticks_base;
+        }
         break;
       case render_mode::upsample:  // the traced pixels are counted with the reduced frame's tiles
         upsample_rows(low, cam, std::max(1, p.upsample), tiles[i].y0, tiles[i].y1, out.img);
@@ -419,7 +452,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
       case render_mode::lightfield:
         shade_tile_interp(f, p.mode == render_mode::full ? &rp : nullptr, mirrored ? &mf : nullptr,
                           p.mode == render_mode::lightfield ? p.lf_depth : -1, tiles[i], out.img,
-                          p.reasons ? &out.reasons : nullptr, totals[i]);
+                          p.reasons ? &out.reasons : nullptr, totals[i], p.base_cost);
         keep_first_uses(totals[i].cells);  // here, in parallel: the serial merge below then sees far fewer
         break;
     }
@@ -435,6 +468,7 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   out.finite = std::find(tile_finite.begin(), tile_finite.end(), 0) == tile_finite.end();
   const auto a0 = std::chrono::steady_clock::now();
   if (reuse) std::swap(reuse->last, reuse->next);
+  out.base_costed = p.base_cost;
   for (const tile_totals& t : totals) {
     out.rays += t.rays, out.pixels += t.pixels;
     out.path_ms.fast += double(t.ticks_fast) / tick_ms;
@@ -442,6 +476,9 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
     out.path_ms.deferred += double(t.ticks_deferred) / tick_ms;
     out.path_ms.span += double(t.ticks_span) / tick_ms;
     out.path_ms.build += double(t.ticks_build) / tick_ms;
+    out.base_code_ms.fast += double(t.base_fast) / tick_ms, out.base_code_ms.interp += double(t.base_interp) / tick_ms;
+    out.base_code_ms.base += double(t.base_base) / tick_ms;
+    out.base_code_ms.deferred += double(t.base_deferred) / tick_ms, out.base_code_ms.span += double(t.base_span) / tick_ms;
   }
   if (p.mode == render_mode::full && !plain) {
     reprojection_ahead& ahead = p.reproj->ahead;

@@ -91,6 +91,11 @@ struct frame_params {
   bool moves_on = false;
   bool keep_ray_trees = false;     // base: fill frame_result::trees, one per pixel, raster order
   bool reasons = false;            // fill frame_result::reasons (the error-coded image)
+  // Base, interp and full: each pixel traced again by base mode's code, timed and added to
+  // frame_result::base_code_ms under the path that served it, so that a path's cost can be
+  // set against what tracing the same pixels costs (a traced pixel lies where the scene is
+  // dear, so the average base pixel is the wrong yardstick). Slow; the image is unchanged.
+  bool base_cost = false;
   // Rows shaded so far, added tile by tile as each finishes (null: not counted): a
   // progress display reads it from another thread. Nothing the frame computes reads it.
   std::atomic<int>* rows_done = nullptr;
@@ -127,6 +132,9 @@ struct frame_result {
   std::uint64_t mirror_filled = 0, mirror_looked_up = 0, mirror_traced = 0;
   std::uint64_t mirror_cells = 0, mirror_trusted = 0;
   path_times path_ms;
+  // With frame_params::base_cost: base mode's code on the pixels of each path (build: 0).
+  path_times base_code_ms;
+  bool base_costed = false;
   // Where the wall time went: the tile phase (with its threads' waits) and what follows it
   // (full: merging the cells used, eviction).
   phase_times shade;

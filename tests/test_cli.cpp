@@ -188,6 +188,8 @@ INSTANTIATE_TEST_SUITE_P(
         bad_flags{"plain_frames_yes", render_args({"--plain-frames", "yes"}), "--plain-frames"},
         bad_flags{"light_cache_maybe", render_args({"--light-cache", "maybe"}), "--light-cache"},
         bad_flags{"mirror_yes", render_args({"--mirror", "yes"}), "--mirror"},
+        bad_flags{"base_cost_reuse", render_args({"--base-cost", "--mode", "reuse"}), "--base-cost"},
+        bad_flags{"base_cost_with_value", render_args({"--base-cost=1"}), "--base-cost takes no value"},
         bad_flags{"unknown_option", render_args({"--bogus"}), "--bogus"},
         bad_flags{"frame_without_path", render_args({"--frame", "0"}), "--frame"},
         bad_flags{"frame_out_of_range", render_args({"--path", "two.path", "--frame", "2"}), "--frame"},
@@ -511,6 +513,42 @@ TEST_F(Cli, WalkWritesEveryFrameStatsAndVerifies) {
     // Thread time per path: present, and positive exactly where the path shaded pixels.
     for (const char* path : {"fast", "interp", "base"})
       EXPECT_EQ(f["path_ms"][path].get<double>() > 0, f["pixels"][path].get<int>() > 0) << path;
+  }
+}
+
+// --base-cost traces every pixel again by base mode's code: the frames are those of a
+// walk without it, and each path's pixels carry base's time on them.
+TEST_F(Cli, BaseCostLeavesFramesAndTimesEachPath) {
+  write("good.nff", good_scene);
+  write("two.path", two_frames);
+  for (const char* mode : {"full", "base"}) {
+    for (const bool cost : {false, true}) {
+      std::vector<std::string> args{"walk", "good.nff", "--path", "two.path", "--mode", mode, "--size", "40x30",
+                                    "--out-dir", std::string(mode) + (cost ? "-cost" : "-plain"), "--pfm",
+                                    "--stats", std::string(mode) + (cost ? "-cost" : "-plain") + ".json", "--quiet"};
+      if (cost) args.push_back("--base-cost");
+      const proc_result r = run(args);
+      ASSERT_EQ(r.code, 0) << r;
+    }
+    for (const char* frame : {"frame_0000.pfm", "frame_0001.pfm"})
+      EXPECT_EQ(test::read_file(work.file(std::string(mode) + "-cost/" + frame)),
+                test::read_file(work.file(std::string(mode) + "-plain/" + frame)))
+          << mode << " " << frame;
+    const auto plain = nlohmann::json::parse(test::read_file(work.file(std::string(mode) + "-plain.json")));
+    EXPECT_FALSE(plain["frames"][0].contains("base_code_ms"));
+    const auto j = nlohmann::json::parse(test::read_file(work.file(std::string(mode) + "-cost.json")));
+    ASSERT_EQ(j["frames"].size(), 2u);
+    for (const auto& f : j["frames"]) {
+      const auto& b = f.at("base_code_ms");
+      for (const char* path : {"fast", "interp", "base"})
+        EXPECT_EQ(b.at(path).get<double>() > 0, f["pixels"][path].get<int>() > 0) << mode << " " << path;
+      EXPECT_EQ(b.at("deferred").get<double>() > 0, f["deferred_pixels"].get<int>() > 0) << mode;
+      EXPECT_EQ(b.at("span").get<double>() > 0, f["span_pixels"].get<int>() > 0) << mode;
+      EXPECT_LE(b.at("deferred").get<double>(), b.at("fast").get<double>() + b.at("interp").get<double>()) << mode;
+      EXPECT_LE(b.at("span").get<double>(), b.at("fast").get<double>()) << mode;
+      // Base mode's own pixels are base's code: the two clocks are one.
+      if (std::string(mode) == "base") EXPECT_EQ(b.at("base").get<double>(), f["path_ms"]["base"].get<double>());
+    }
   }
 }
 
