@@ -34,7 +34,7 @@ frame_record make_frame_record(int index, const frame_result& fr, const verify_r
   frame_record r{index, fr.ms, fr.pixels, fr.rays, fr.memory_bytes, fr.linetree_bytes, fr.path_ms, fr.reproject_ms,
                  fr.ahead_ms, fr.ahead_wait_ms, fr.shade, fr.after_ms};
   r.objects_off = fr.objects_off;
-  r.base_code_ms = fr.base_code_ms, r.base_cost = fr.base_costed;
+  r.base_code_ms = fr.base_code_ms;
   r.plain = fr.plain;
   r.probe_pixels = fr.probe_pixels, r.probe_ms = fr.probe_ms;
   r.mirror_filled = fr.mirror_filled, r.mirror_looked_up = fr.mirror_looked_up, r.mirror_traced = fr.mirror_traced;
@@ -50,6 +50,7 @@ run_record make_run_record(const cli_options& o, int width, int height, int thre
   run_record r;
   r.scene = o.scene, r.mode = mode_name(o.mode), r.width = width, r.height = height, r.threads = threads;
   r.eps = o.eps;
+  r.base_cost = o.base_cost;
   r.command = o.command_line;
   return r;
 }
@@ -100,7 +101,7 @@ void write_stats_json(const run_record& r, const std::string& path) {
                            {"linetree_bytes", f.linetree_bytes}};
     fj["sched"] = {{"shade_ms", f.shade.wall_ms}, {"join_ms", f.shade.join_ms}, {"tail_ms", f.shade.tail_ms},
                    {"after_ms", f.after_ms}};
-    if (f.base_cost)
+    if (r.base_cost)
       fj["base_code_ms"] = {{"fast", f.base_code_ms.fast}, {"interp", f.base_code_ms.interp},
                             {"base", f.base_code_ms.base}, {"deferred", f.base_code_ms.deferred},
                             {"span", f.base_code_ms.span}};

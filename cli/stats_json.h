@@ -30,8 +30,7 @@ struct frame_record {
   double max_rel_err = 0, p999_rel_err = 0, mean_rel_err = 0;
   std::uint64_t violations = 0;
   int rank = 0;  // the rank that rendered it (a walk under mpirun)
-  bool base_cost = false;  // --base-cost: base mode's code on each path's pixels
-  path_times base_code_ms{};
+  path_times base_code_ms{};  // with --base-cost (run_record::base_cost)
 };
 
 // Frame `index`'s record; with vr (--verify), its errors.
@@ -41,6 +40,7 @@ struct run_record {
   std::string scene, mode;
   int width = 0, height = 0, threads = 0;
   float eps = 0;
+  bool base_cost = false;  // --base-cost: frames carry base_code_ms
   std::vector<std::string> command;  // the provenance's argument list, "epsray" first
   std::vector<frame_record> frames;
   double total_ms = 0;

@@ -468,7 +468,6 @@ frame_result render_frame(workers& pool, const world& w, const camera& cam, cons
   out.finite = std::find(tile_finite.begin(), tile_finite.end(), 0) == tile_finite.end();
   const auto a0 = std::chrono::steady_clock::now();
   if (reuse) std::swap(reuse->last, reuse->next);
-  out.base_costed = p.base_cost;
   for (const tile_totals& t : totals) {
     out.rays += t.rays, out.pixels += t.pixels;
     out.path_ms.fast += double(t.ticks_fast) / tick_ms;

@@ -134,7 +134,6 @@ struct frame_result {
   path_times path_ms;
   // With frame_params::base_cost: base mode's code on the pixels of each path (build: 0).
   path_times base_code_ms;
-  bool base_costed = false;
   // Where the wall time went: the tile phase (with its threads' waits) and what follows it
   // (full: merging the cells used, eviction).
   phase_times shade;

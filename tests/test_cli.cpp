@@ -547,7 +547,9 @@ TEST_F(Cli, BaseCostLeavesFramesAndTimesEachPath) {
       EXPECT_LE(b.at("deferred").get<double>(), b.at("fast").get<double>() + b.at("interp").get<double>()) << mode;
       EXPECT_LE(b.at("span").get<double>(), b.at("fast").get<double>()) << mode;
       // Base mode's own pixels are base's code: the two clocks are one.
-      if (std::string(mode) == "base") EXPECT_EQ(b.at("base").get<double>(), f["path_ms"]["base"].get<double>());
+      if (std::string(mode) == "base") {
+        EXPECT_EQ(b.at("base").get<double>(), f["path_ms"]["base"].get<double>());
+      }
     }
   }
 }
