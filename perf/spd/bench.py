@@ -5,8 +5,10 @@ For each scene of ../shared/scenes/spd/ named by --scenes, two camera paths made
 the scene's own view: an orbit (1 degree a frame about the view's up axis through 'at')
 and a dolly (the eye moves 1% of its distance to 'at' towards it each frame). Each walk
 runs in base and in full mode at the same moment, one thread each, one per core, cores
-swapped each round (as perf/pair.py does), and the figure is the median over the pairs of
-base's total time over full's: the speed-up. A speed-up under 1 is a walk full mode loses.
+swapped each round (as perf/pair.py does). The figure is base's total time over full's, the
+speed-up: per round the geometric mean of its two pairs (which cancels a difference
+between the cores, perf/pair.py), and the median over the rounds. A speed-up under 1 is a
+walk full mode loses.
 
     perf/spd/bench.py                      # 5 scenes x 2 paths, 640x480, 16 frames
     perf/spd/bench.py --scenes mount-s4 --paths orbit --size 320x240 --rounds 1
@@ -76,13 +78,14 @@ def main():
                 (orbit_path if kind == "orbit" else dolly_path)(scene, a.frames, path)
                 cb = walk_cmd(a.exe, scene, path, a.size, "base", "")
                 cf = walk_cmd(a.exe, scene, path, a.size, "full", a.flags)
-                ratios = []
+                ratios, rounds = [], []
                 for r in range(a.rounds):
                     for swap in (0, 1):
                         order = cpus if not swap else list(reversed(cpus))
                         tb, tf = pair(cb, cf, order)
                         ratios.append(tb / tf)
-                row = {"scene": name, "path": kind, "speedup": statistics.median(ratios),
+                    rounds.append(math.sqrt(ratios[-1] * ratios[-2]))
+                row = {"scene": name, "path": kind, "speedup": statistics.median(rounds),
                        "smallest": min(ratios), "largest": max(ratios), "pairs": len(ratios)}
                 rows.append(row)
                 print("%-10s %-6s full %.3fx base (%.3f-%.3f, %d pairs)" %
