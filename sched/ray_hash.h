@@ -21,6 +21,8 @@
 #include <new>
 #include <type_traits>
 
+#include "sched/huge_pages.h"
+
 namespace epsray {
 
 template <class Key, class Value, class Hash>
@@ -29,7 +31,7 @@ class insert_only_map {
   // capacity is rounded up to a power of two; probes stop after `max_probe` slots.
   explicit insert_only_map(std::size_t capacity, int max_probe = 32)
       : mask_(round_up(capacity) - 1), max_probe_(max_probe), tags_(new std::atomic<std::uint64_t>[mask_ + 1]),
-        storage_(new std::byte[(mask_ + 1) * sizeof(slot)]), slots_(reinterpret_cast<slot*>(storage_.get())) {
+        storage_(take_huge((mask_ + 1) * sizeof(slot))), slots_(static_cast<slot*>(storage_.get())) {
     for (std::size_t i = 0; i <= mask_; ++i) tags_[i].store(0, std::memory_order_relaxed);
   }
 
@@ -102,7 +104,9 @@ class insert_only_map {
   std::size_t mask_;
   int max_probe_;
   std::unique_ptr<std::atomic<std::uint64_t>[]> tags_;
-  std::unique_ptr<std::byte[]> storage_;  // the slots, constructed as they are claimed
+  // The slots, constructed as they are claimed; in huge pages (huge_pages.h), since a
+  // frame's lines scatter over all of it.
+  std::unique_ptr<void, huge_deleter> storage_;
   slot* slots_;
   std::atomic<std::size_t> size_{0};
 };
