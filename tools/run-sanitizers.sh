@@ -2,7 +2,7 @@
 # Extra CI configurations, each in its own build folder:
 #  - AddressSanitizer + UndefinedBehaviorSanitizer over the whole test suite;
 #  - ThreadSanitizer over the tests that race plain std::threads on epsray's lock-free
-#    structures (linetrees, the unique-ray hash, the light cache). TBB-driven code is left out: Debian's
+#    structures (linetrees, the unique-ray hash, the node pool, the light cache). TBB-driven code is left out: Debian's
 #    oneTBB is not instrumented, so TSan cannot see its synchronisation (tools/tsan.supp);
 #  - the libFuzzer targets for a fixed number of runs (tools/run-fuzz.sh, docs/fuzzing.md).
 # Run after tools/setup.sh (which installs the packages).
@@ -22,9 +22,10 @@ UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \
 
 cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DEPSRAY_SANITIZE=thread \
   -DEPSRAY_BENCH=OFF >/dev/null
-cmake --build build-tsan -j"$jobs" --target test_ray_hash test_interp test_light_cache >/dev/null
+cmake --build build-tsan -j"$jobs" --target test_ray_hash test_node_pool test_interp test_light_cache >/dev/null
 export TSAN_OPTIONS="halt_on_error=1 suppressions=$PWD/tools/tsan.supp"
 build-tsan/tests/test_ray_hash
+build-tsan/tests/test_node_pool
 build-tsan/tests/test_interp --gtest_filter='InterpConcurrency.*:Linetree.*'
 build-tsan/tests/test_light_cache --gtest_filter='LightCache.ConcurrentQueriesAgreeWithTheBvh'
 

@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include "geom/bounds.h"
+#include "interp/node_pool.h"
 #include "shade/whitted.h"
 
 namespace epsray {
@@ -30,6 +31,8 @@ struct textured_terms {
   glm::vec3 tex_min{0};    // the smallest corner factor per channel
   texture_range texels;    // the values the texture takes
   glm::vec3 err_tex{0};    // proven bound of |f - interpolated f| for tex, per channel
+  static void* operator new(std::size_t bytes) { return node_pool::allocate(bytes); }
+  static void operator delete(void* p, std::size_t bytes) noexcept { node_pool::deallocate(p, bytes); }
 };
 
 // Corner k of a cell: bit 0 picks a's upper end, bit 1 b's, bit 2 c's, bit 3 d's.
@@ -57,6 +60,9 @@ struct interpolant {
   // meet, when a short list holds it (engine/predicate/reflect_shaft.h).
   std::unique_ptr<reflect_candidates> reflect;
   bool textured() const { return tx != nullptr; }
+  // From the node pool (node_pool.h), as the nodes are.
+  static void* operator new(std::size_t bytes) { return node_pool::allocate(bytes); }
+  static void operator delete(void* p, std::size_t bytes) noexcept { node_pool::deallocate(p, bytes); }
   std::size_t bytes() const {
     return sizeof(interpolant) + (tx ? sizeof(textured_terms) : 0) + (reflect ? sizeof(reflect_candidates) : 0);
   }

@@ -16,6 +16,7 @@
 #include "accel/light_cache.h"
 #include "interp/interpolant.h"
 #include "interp/line_space.h"
+#include "interp/node_pool.h"
 #include "interp/object_gate.h"
 #include "interp/sample_cache.h"
 
@@ -32,6 +33,9 @@ struct lt_node {
   // budget evicts last. Every writer of a frame writes the same value.
   mutable std::atomic<std::uint32_t> used{0};
   ~lt_node();
+  // Children come 4 or 16 at a time from the node pool (node_pool.h).
+  static void* operator new[](std::size_t bytes) { return node_pool::allocate(bytes); }
+  static void operator delete[](void* p, std::size_t bytes) noexcept { node_pool::deallocate(p, bytes); }
 };
 
 // Marks n used in `frame` (a read first: most lookups find it marked already).
