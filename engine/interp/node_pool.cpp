@@ -20,7 +20,9 @@ namespace epsray::node_pool {
 namespace {
 
 constexpr std::size_t grain = 64, classes = 32, chunk_bytes = huge_page_bytes;
+std::atomic<std::size_t> chunk_count{0};
 
+#ifndef EPSRAY_POOL_OFF
 struct free_block {
   free_block* next;
 };
@@ -34,7 +36,6 @@ struct class_list {
 };
 
 class_list lists[classes];
-std::atomic<std::size_t> chunk_count{0};
 
 // Each thread carves its own chunk, so fresh blocks need no lock.
 thread_local char* bump = nullptr;
@@ -45,6 +46,7 @@ char* new_chunk() {
   chunk_count.fetch_add(1, std::memory_order_relaxed);
   return static_cast<char*>(p);
 }
+#endif
 
 }  // namespace
 
@@ -77,6 +79,7 @@ void* allocate(std::size_t bytes) {
 void deallocate(void* p, std::size_t bytes) noexcept {
   if (!p) return;
 #ifdef EPSRAY_POOL_OFF
+  (void)bytes;
   ::operator delete(p, std::align_val_t(grain));
 #else
   const std::size_t c = (bytes + grain - 1) / grain;
