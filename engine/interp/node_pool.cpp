@@ -19,10 +19,12 @@ namespace epsray::node_pool {
 
 namespace {
 
-constexpr std::size_t grain = 64, classes = 32, chunk_bytes = huge_page_bytes;
+constexpr std::size_t grain = 64;
 std::atomic<std::size_t> chunk_count{0};
 
 #ifndef EPSRAY_POOL_OFF
+constexpr std::size_t classes = 32, chunk_bytes = huge_page_bytes;
+
 struct free_block {
   free_block* next;
 };
