@@ -9,9 +9,9 @@
 #pragma once
 #include <sys/mman.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdlib>
-#include <memory>
 #include <new>
 
 namespace epsray {
@@ -20,8 +20,9 @@ constexpr std::size_t huge_page_bytes = std::size_t(2) << 20;
 
 // At least `bytes`, rounded up to whole 2 MB pages; free with release_huge.
 inline void* take_huge(std::size_t bytes) {
-  const std::size_t size = (bytes + huge_page_bytes - 1) / huge_page_bytes * huge_page_bytes;
-  void* p = std::aligned_alloc(huge_page_bytes, size ? size : huge_page_bytes);
+  const std::size_t size =
+      std::max<std::size_t>(1, (bytes + huge_page_bytes - 1) / huge_page_bytes) * huge_page_bytes;
+  void* p = std::aligned_alloc(huge_page_bytes, size);
   if (!p) throw std::bad_alloc();
 #ifdef MADV_HUGEPAGE
   madvise(p, size, MADV_HUGEPAGE);  // advice only

@@ -1,7 +1,6 @@
 #include "interp/node_pool.h"
 
 #include <atomic>
-#include <cstdlib>
 #include <mutex>
 #include <new>
 
@@ -43,6 +42,12 @@ class_list lists[classes];
 thread_local char* bump = nullptr;
 thread_local char* bump_end = nullptr;
 
+// The size class of a block of `bytes` (1 to classes), or 0: operator new's.
+std::size_t class_of(std::size_t bytes) {
+  const std::size_t c = (bytes + grain - 1) / grain;
+  return c <= classes ? c : 0;
+}
+
 char* new_chunk() {
   void* p = take_huge(chunk_bytes);
   chunk_count.fetch_add(1, std::memory_order_relaxed);
@@ -56,8 +61,8 @@ void* allocate(std::size_t bytes) {
 #ifdef EPSRAY_POOL_OFF
   return ::operator new(bytes, std::align_val_t(grain));
 #else
-  const std::size_t c = (bytes + grain - 1) / grain;
-  if (c == 0 || c > classes) return ::operator new(bytes, std::align_val_t(grain));
+  const std::size_t c = class_of(bytes);
+  if (c == 0) return ::operator new(bytes, std::align_val_t(grain));
   class_list& l = lists[c - 1];
   if (l.count.load(std::memory_order_relaxed) > 0) {
     std::lock_guard<std::mutex> g(l.m);
@@ -84,8 +89,8 @@ void deallocate(void* p, std::size_t bytes) noexcept {
   (void)bytes;
   ::operator delete(p, std::align_val_t(grain));
 #else
-  const std::size_t c = (bytes + grain - 1) / grain;
-  if (c == 0 || c > classes) {
+  const std::size_t c = class_of(bytes);
+  if (c == 0) {
     ::operator delete(p, std::align_val_t(grain));
     return;
   }
