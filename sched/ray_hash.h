@@ -4,14 +4,18 @@
 // that finds a slot still being written computes the value itself. So nothing observable
 // depends on which thread won, and no thread ever waits.
 //
-// Open addressing with linear probing; a slot is claimed by one compare-and-swap on its
-// 64-bit tag (from the key's hash, never 0) and published by a release store of the tag
-// with its low bit set. The tags live in an array of their own, so a probe sequence reads
-// a few cache lines of tags, not a cache line per slot (a lookup that misses reads all
-// max_probe of them). A slot is read only once its tag says it is published, so the slots'
-// memory is left as allocated until then: a table sized for a whole frame (48 MB at
-// 640x480) costs nothing where few lines are traced, where writing it all cost a short
-// walk 3% of its time.
+// Open addressing with linear probing over an array of 64-bit tags: a tag is claimed by one
+// compare-and-swap (the key's hash, never 0) and published by a release store that adds
+// where its value lies and sets the low bit. A probe sequence reads a few cache lines of
+// tags, not a cache line per entry (a lookup that misses reads all max_probe of them).
+// The entries themselves (key and value, 184 bytes for a line's sample) are not kept at
+// their tag's place but one after another in claim order, in a block reserved whole and
+// written only as entries are claimed: a table sized for a whole frame (48 MB at 640x480)
+// then touches memory in proportion to what it holds. With entries at their tags' places,
+// a cold frame's first few thousand lines, scattered by their hashes, touched every page of
+// it, and on this project's VM the kernel's clearing of those pages took a third of
+// teapot-s6's first frame. Where an entry lies depends on which thread claimed first; what
+// any lookup returns does not.
 // Knows nothing of rendering.
 #pragma once
 #include <atomic>
@@ -30,19 +34,24 @@ class insert_only_map {
  public:
   // capacity is rounded up to a power of two; probes stop after `max_probe` slots.
   explicit insert_only_map(std::size_t capacity, int max_probe = 32)
-      : mask_(round_up(capacity) - 1), max_probe_(max_probe), tags_(new std::atomic<std::uint64_t>[mask_ + 1]),
+      : mask_(round_up(capacity) - 1), max_probe_(max_probe),
+        tag_storage_(take_huge((mask_ + 1) * sizeof(std::atomic<std::uint64_t>))),
+        tags_(::new (tag_storage_.get()) std::atomic<std::uint64_t>[mask_ + 1]),
         storage_(take_huge((mask_ + 1) * sizeof(slot))), slots_(static_cast<slot*>(storage_.get())) {
     for (std::size_t i = 0; i <= mask_; ++i) tags_[i].store(0, std::memory_order_relaxed);
   }
 
   // The published value for key, or null.
   const Value* find(const Key& key) const {
-    const std::uint64_t tag = tag_of(key);
+    const std::uint64_t h = Hash{}(key), tag = tag_of(h);
     for (int p = 0; p < max_probe_; ++p) {
-      const std::size_t i = (tag + std::uint64_t(p)) & mask_;
+      const std::size_t i = (h + std::uint64_t(p)) & mask_;
       const std::uint64_t t = tags_[i].load(std::memory_order_acquire);
       if (t == 0) return nullptr;
-      if (t == (tag | 1) && slots_[i].key == key) return &slots_[i].value;
+      if ((t & 1) && same_key(t, tag)) {
+        const slot& s = slots_[place_of(t)];
+        if (s.key == key) return &s.value;
+      }
     }
     return nullptr;
   }
@@ -50,19 +59,21 @@ class insert_only_map {
   // Publishes value for key unless the key is present or being written, or the probe
   // sequence is full. Returns the published value (this one or an earlier one) or null.
   const Value* insert(const Key& key, const Value& value) {
-    const std::uint64_t tag = tag_of(key);
+    const std::uint64_t h = Hash{}(key), tag = tag_of(h);
     for (int p = 0; p < max_probe_; ++p) {
-      const std::size_t i = (tag + std::uint64_t(p)) & mask_;
+      const std::size_t i = (h + std::uint64_t(p)) & mask_;
       std::uint64_t t = tags_[i].load(std::memory_order_acquire);
       if (t == 0 && tags_[i].compare_exchange_strong(t, tag, std::memory_order_acq_rel)) {
-        slot* s = ::new (static_cast<void*>(&slots_[i])) slot{key, value};
-        tags_[i].store(tag | 1, std::memory_order_release);
-        size_.fetch_add(1, std::memory_order_relaxed);
+        // One entry per claimed tag, so the next place is always within the block.
+        const std::size_t place = size_.fetch_add(1, std::memory_order_relaxed);
+        slot* s = ::new (static_cast<void*>(&slots_[place])) slot{key, value};
+        tags_[i].store(tag | (std::uint64_t(place) << 1) | 1, std::memory_order_release);
         return &s->value;
       }
-      if ((t & ~std::uint64_t(1)) == tag) {
+      if (same_key(t, tag)) {
         if (!(t & 1)) return nullptr;  // being written: give up
-        if (slots_[i].key == key) return &slots_[i].value;
+        const slot& s = slots_[place_of(t)];
+        if (s.key == key) return &s.value;
       }
     }
     return nullptr;  // full around here: the caller keeps its value unshared
@@ -82,8 +93,10 @@ class insert_only_map {
   // Every published value, for owners that must free what the values point to.
   template <class F>
   void for_each(F&& f) const {
-    for (std::size_t i = 0; i <= mask_; ++i)
-      if (tags_[i].load(std::memory_order_acquire) & 1) f(slots_[i].value);
+    for (std::size_t i = 0; i <= mask_; ++i) {
+      const std::uint64_t t = tags_[i].load(std::memory_order_acquire);
+      if (t & 1) f(slots_[place_of(t)].value);
+    }
   }
 
  private:
@@ -94,21 +107,30 @@ class insert_only_map {
   };
   static_assert(std::is_trivially_destructible_v<Key> && std::is_trivially_destructible_v<Value>);
   static_assert(alignof(slot) <= __STDCPP_DEFAULT_NEW_ALIGNMENT__);
+  // At most 2^31 tags, so that an entry's place fits in bits 1-31 of its tag.
+  static constexpr std::size_t most = std::size_t(1) << 31;
   static std::size_t round_up(std::size_t n) {
     std::size_t c = 16;
-    while (c < n) c <<= 1;
+    while (c < n && c < most) c <<= 1;
     return c;
   }
-  // Bit 0 of a stored tag says the slot is published; bit 1 keeps a claimed tag nonzero.
-  static std::uint64_t tag_of(const Key& k) { return (Hash{}(k) | 2) & ~std::uint64_t(1); }
+  // A tag: the key's hash in bits 32-63 (bit 32 set, so a claimed tag is never 0), the place
+  // of its entry in bits 1-31 once published, and bit 0 set when published. Where a tag is
+  // probed from comes from the hash's low bits, so the two halves are used for different ends.
+  static constexpr std::uint64_t hash_bits = ~std::uint64_t(0) << 32;
+  static std::uint64_t tag_of(std::uint64_t h) { return (h | (std::uint64_t(1) << 32)) & hash_bits; }
+  static bool same_key(std::uint64_t stored, std::uint64_t tag) { return (stored & hash_bits) == (tag & hash_bits); }
+  static std::size_t place_of(std::uint64_t stored) { return std::size_t((stored & 0xffffffffu) >> 1); }
   std::size_t mask_;
   int max_probe_;
-  std::unique_ptr<std::atomic<std::uint64_t>[]> tags_;
-  // The slots, constructed as they are claimed; in huge pages (huge_pages.h), since a
-  // frame's lines scatter over all of it.
+  // The tags (8 bytes each, 2 MB for 2^18) and the entries, each in 2 MB blocks advised as
+  // huge pages (huge_pages.h): the tags are written whole at once, the entries from the
+  // front as they are claimed.
+  std::unique_ptr<void, huge_deleter> tag_storage_;
+  std::atomic<std::uint64_t>* tags_;
   std::unique_ptr<void, huge_deleter> storage_;
   slot* slots_;
-  std::atomic<std::size_t> size_{0};
+  std::atomic<std::size_t> size_{0};  // entries claimed, and the next entry's place
 };
 
 }  // namespace epsray

@@ -1,6 +1,8 @@
 // The lock-free insert-only map behind the unique-ray hash (sched/ray_hash.h).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <set>
 #include <thread>
 #include <vector>
 
@@ -70,6 +72,49 @@ TEST(RayHash, RacingThreadsStoreEachKeyOnceWithItsValue) {
     }
   EXPECT_EQ(found, m.size());
   EXPECT_GT(found, keys * 99 / 100);  // only an insert racing a writer of the same slot gives up
+}
+
+// A table sized for a whole frame that holds a few lines keeps them together at the front
+// of its entries' block, whatever their hashes: the memory it touches grows with what it
+// holds, not with its capacity.
+TEST(RayHash, FewEntriesLieTogetherInAWideTable) {
+  struct entry {
+    std::uint64_t v[16];  // about a line sample's size
+  };
+  insert_only_map<std::uint64_t, entry, mix_hash> m(std::size_t(1) << 18);
+  std::vector<const entry*> at;
+  for (std::uint64_t k = 1; k <= 1000; ++k) {
+    entry e{};
+    e.v[0] = value_of(k);
+    const entry* p = m.insert(k * 0x9e3779b97f4a7c15ull, e);
+    ASSERT_NE(p, nullptr);
+    at.push_back(p);
+  }
+  const auto [lo, hi] = std::minmax_element(at.begin(), at.end());
+  const std::size_t span = std::size_t(reinterpret_cast<const char*>(*hi) - reinterpret_cast<const char*>(*lo));
+  EXPECT_LT(span, 1000 * (sizeof(std::uint64_t) + sizeof(entry)));
+  for (std::uint64_t k = 1; k <= 1000; ++k) {
+    const entry* p = m.find(k * 0x9e3779b97f4a7c15ull);
+    ASSERT_NE(p, nullptr);
+    EXPECT_EQ(p->v[0], value_of(k));
+  }
+}
+
+// for_each visits every published value once; clear forgets them all, and the table takes
+// new keys afterwards with their own values (entries are reused from the front).
+TEST(RayHash, ForEachAndClear) {
+  map m(256);
+  for (std::uint64_t k = 1; k <= 100; ++k) ASSERT_NE(m.insert(k, value_of(k)), nullptr);
+  std::multiset<std::uint64_t> seen;
+  m.for_each([&](std::uint64_t v) { seen.insert(v); });
+  ASSERT_EQ(seen.size(), 100u);
+  for (std::uint64_t k = 1; k <= 100; ++k) EXPECT_EQ(seen.count(value_of(k)), 1u) << k;
+  m.clear();
+  EXPECT_EQ(m.size(), 0u);
+  for (std::uint64_t k = 1; k <= 100; ++k) EXPECT_EQ(m.find(k), nullptr);
+  for (std::uint64_t k = 101; k <= 200; ++k) ASSERT_NE(m.insert(k, value_of(k)), nullptr);
+  for (std::uint64_t k = 101; k <= 200; ++k) EXPECT_EQ(*m.find(k), value_of(k));
+  for (std::uint64_t k = 1; k <= 100; ++k) EXPECT_EQ(m.find(k), nullptr);
 }
 
 }  // namespace
