@@ -34,9 +34,7 @@ class insert_only_map {
  public:
   // capacity is rounded up to a power of two; probes stop after `max_probe` slots.
   explicit insert_only_map(std::size_t capacity, int max_probe = 32)
-      : mask_(round_up(capacity) - 1), max_probe_(max_probe),
-        tag_storage_(take_huge((mask_ + 1) * sizeof(std::atomic<std::uint64_t>))),
-        tags_(::new (tag_storage_.get()) std::atomic<std::uint64_t>[mask_ + 1]),
+      : mask_(round_up(capacity) - 1), max_probe_(max_probe), tags_(new std::atomic<std::uint64_t>[mask_ + 1]),
         storage_(take_huge((mask_ + 1) * sizeof(slot))), slots_(static_cast<slot*>(storage_.get())) {
     for (std::size_t i = 0; i <= mask_; ++i) tags_[i].store(0, std::memory_order_relaxed);
   }
@@ -48,7 +46,7 @@ class insert_only_map {
       const std::size_t i = (h + std::uint64_t(p)) & mask_;
       const std::uint64_t t = tags_[i].load(std::memory_order_acquire);
       if (t == 0) return nullptr;
-      if ((t & 1) && same_key(t, tag)) {
+      if ((t & 1) && same_hash(t, tag)) {
         const slot& s = slots_[place_of(t)];
         if (s.key == key) return &s.value;
       }
@@ -70,7 +68,7 @@ class insert_only_map {
         tags_[i].store(tag | (std::uint64_t(place) << 1) | 1, std::memory_order_release);
         return &s->value;
       }
-      if (same_key(t, tag)) {
+      if (same_hash(t, tag)) {
         if (!(t & 1)) return nullptr;  // being written: give up
         const slot& s = slots_[place_of(t)];
         if (s.key == key) return &s.value;
@@ -119,15 +117,13 @@ class insert_only_map {
   // probed from comes from the hash's low bits, so the two halves are used for different ends.
   static constexpr std::uint64_t hash_bits = ~std::uint64_t(0) << 32;
   static std::uint64_t tag_of(std::uint64_t h) { return (h | (std::uint64_t(1) << 32)) & hash_bits; }
-  static bool same_key(std::uint64_t stored, std::uint64_t tag) { return (stored & hash_bits) == (tag & hash_bits); }
+  static bool same_hash(std::uint64_t stored, std::uint64_t tag) { return (stored & hash_bits) == (tag & hash_bits); }
   static std::size_t place_of(std::uint64_t stored) { return std::size_t((stored & 0xffffffffu) >> 1); }
   std::size_t mask_;
   int max_probe_;
-  // The tags (8 bytes each, 2 MB for 2^18) and the entries, each in 2 MB blocks advised as
-  // huge pages (huge_pages.h): the tags are written whole at once, the entries from the
-  // front as they are claimed.
-  std::unique_ptr<void, huge_deleter> tag_storage_;
-  std::atomic<std::uint64_t>* tags_;
+  std::unique_ptr<std::atomic<std::uint64_t>[]> tags_;
+  // The entries, in 2 MB blocks advised as huge pages (huge_pages.h), written from the front
+  // as they are claimed.
   std::unique_ptr<void, huge_deleter> storage_;
   slot* slots_;
   std::atomic<std::size_t> size_{0};  // entries claimed, and the next entry's place
