@@ -117,7 +117,8 @@ class insert_only_map {
   // probed from comes from the hash's low bits, so the two halves are used for different ends.
   static constexpr std::uint64_t hash_bits = ~std::uint64_t(0) << 32;
   static std::uint64_t tag_of(std::uint64_t h) { return (h | (std::uint64_t(1) << 32)) & hash_bits; }
-  static bool same_hash(std::uint64_t stored, std::uint64_t tag) { return (stored & hash_bits) == (tag & hash_bits); }
+  // `tag` is tag_of's: it holds the hash bits alone.
+  static bool same_hash(std::uint64_t stored, std::uint64_t tag) { return (stored & hash_bits) == tag; }
   static std::size_t place_of(std::uint64_t stored) { return std::size_t((stored & 0xffffffffu) >> 1); }
   std::size_t mask_;
   int max_probe_;
